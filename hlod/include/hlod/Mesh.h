@@ -1,0 +1,92 @@
+#pragma once
+// Core mesh types shared by import, city generation, the HLOD builder and the renderer.
+//
+// Coordinates: world positions are doubles (Mesh). A LocalMesh keeps float positions relative to
+// its own double-precision centre: this is what nodes store and what the renderer uploads, so a
+// model far from the origin keeps full precision (see DESIGN.md, Coordinates).
+//
+// Texture coordinates follow glTF: (0,0) is the top-left of the image, v grows downwards; Image
+// row 0 is the top row. Importers of formats with v up (OBJ, PLY) flip v.
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace hlod {
+
+// 8-bit RGBA image, row 0 at the top.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> pixels;  // width * height * 4
+
+  bool empty() const { return width <= 0 || height <= 0; }
+};
+
+struct Aabb {
+  glm::dvec3 min{std::numeric_limits<double>::max()};
+  glm::dvec3 max{std::numeric_limits<double>::lowest()};
+
+  bool empty() const { return min.x > max.x; }
+  void extend(const glm::dvec3& p) {
+    min = glm::min(min, p);
+    max = glm::max(max, p);
+  }
+  void extend(const Aabb& b) {
+    if (!b.empty()) {
+      extend(b.min);
+      extend(b.max);
+    }
+  }
+  glm::dvec3 centre() const { return (min + max) * 0.5; }
+  glm::dvec3 size() const { return empty() ? glm::dvec3(0.0) : max - min; }
+};
+
+// A triangle mesh in world coordinates (double precision).
+struct Mesh {
+  std::string name;
+  std::vector<glm::dvec3> positions;
+  std::vector<glm::vec3> normals;    // empty, or one per position
+  std::vector<glm::vec2> texCoords;  // empty, or one per position
+  std::vector<std::uint32_t> indices;  // three per triangle
+  glm::vec4 baseColor{0.8f, 0.8f, 0.8f, 1.0f};
+  std::shared_ptr<const Image> texture;  // optional base-colour texture
+
+  std::size_t triangleCount() const { return indices.size() / 3; }
+  Aabb bounds() const;
+};
+
+// Several meshes: a glTF scene, an OBJ with several materials, a city.
+struct Model {
+  std::vector<Mesh> meshes;
+
+  std::size_t triangleCount() const;
+  Aabb bounds() const;
+};
+
+// A mesh with float positions relative to a double-precision centre: the render/storage form.
+struct LocalMesh {
+  glm::dvec3 centre{0.0};
+  std::vector<glm::vec3> positions;  // relative to centre
+  std::vector<glm::vec3> normals;    // one per position (always filled by toLocal)
+  std::vector<glm::vec2> texCoords;  // empty, or one per position
+  std::vector<std::uint32_t> indices;
+  glm::vec4 baseColor{0.8f, 0.8f, 0.8f, 1.0f};
+  std::shared_ptr<const Image> texture;
+
+  std::size_t triangleCount() const { return indices.size() / 3; }
+};
+
+// Area-weighted per-vertex normals (computed in double; degenerate triangles add nothing, a
+// vertex with no area gets +Z so that no NaN reaches the GPU).
+std::vector<glm::vec3> computeVertexNormals(const std::vector<glm::dvec3>& positions,
+                                            const std::vector<std::uint32_t>& indices);
+
+// Converts to the local form around the bounding-box centre; computes normals if missing.
+LocalMesh toLocal(const Mesh& mesh);
+
+}  // namespace hlod

@@ -1,0 +1,50 @@
+#pragma once
+// The HLOD skeleton: the tree with per-node pre-processed values (Lakhia III-B), loaded whole.
+// Payloads (vertices, indices, texture) live elsewhere in the node store and are read on demand.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "hlod/Mesh.h"
+
+namespace hlod {
+
+constexpr std::uint32_t kNoNode = 0xffffffffu;
+
+struct NodeInfo {
+  std::uint32_t parent = kNoNode;  // kNoNode for an hlod_0 node (a block's root)
+  std::uint32_t firstChild = 0;    // children are contiguous: [firstChild, firstChild+childCount)
+  std::uint32_t childCount = 0;
+  std::uint32_t level = 0;  // d of hlod_d: 0 for block roots
+  std::uint32_t block = 0;  // index of the block the node belongs to
+  Aabb bounds;              // world space, double
+  glm::dvec3 centre{0.0};   // payload vertices are float, relative to this
+  std::uint32_t numTri = 0;
+  std::uint32_t numTexTri = 0;
+  double cost = 0.0;           // eq. 1
+  double staticBenefit = 0.0;  // eq. 2
+  glm::vec3 avgNormal{0.0f, 0.0f, 1.0f};  // eq. 3 (fallback +Z when the node has no area)
+  double geometricError = 0.0;  // world units; 0 at the leaves (for screen-space-error selection)
+  std::uint64_t payloadOffset = 0;
+  std::uint64_t payloadSize = 0;
+  std::uint32_t payloadChecksum = 0;
+};
+
+struct BuildParams {
+  double levelFactor = 3.0;      // C_levelFactor
+  std::uint32_t desiredTri = 0;  // C_desiredTri
+  double cTex = 0.0;             // c_tex of eq. 1
+  std::string simplifier;        // "meshopt" or "openmesh"
+};
+
+struct Skeleton {
+  std::vector<NodeInfo> nodes;
+  std::vector<std::uint32_t> roots;  // the hlod_0 nodes, one per block
+  BuildParams params;
+
+  bool isLeaf(std::uint32_t n) const { return nodes[n].childCount == 0; }
+};
+
+}  // namespace hlod
