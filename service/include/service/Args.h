@@ -1,0 +1,36 @@
+#pragma once
+// Command-line arguments of one subcommand: positionals, `--name value`, `--name=value`, and
+// boolean flags. Unknown options are reported, not ignored.
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "hlod/Result.h"
+
+namespace service {
+
+class Args {
+ public:
+  // flags: option names that take no value (e.g. "quiet", "plots"); every other --name takes one.
+  static hlod::Result<Args> parse(const std::vector<std::string>& argv,
+                                  const std::set<std::string>& flags,
+                                  const std::set<std::string>& options);
+
+  const std::vector<std::string>& positionals() const { return positionals_; }
+  bool has(const std::string& name) const { return values_.count(name) > 0; }
+  std::optional<std::string> get(const std::string& name) const;
+  std::string get(const std::string& name, const std::string& fallback) const;
+  // Numeric options: an Error for a value that is not a number or is outside [lo, hi].
+  hlod::Result<double> number(const std::string& name, double fallback, double lo,
+                              double hi) const;
+  hlod::Result<long long> integer(const std::string& name, long long fallback, long long lo,
+                                  long long hi) const;
+
+ private:
+  std::vector<std::string> positionals_;
+  std::map<std::string, std::string> values_;
+};
+
+}  // namespace service

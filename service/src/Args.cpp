@@ -1,0 +1,88 @@
+#include "service/Args.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace service {
+
+hlod::Result<Args> Args::parse(const std::vector<std::string>& argv,
+                               const std::set<std::string>& flags,
+                               const std::set<std::string>& options) {
+  Args args;
+  for (std::size_t i = 0; i < argv.size(); ++i) {
+    const std::string& a = argv[i];
+    if (a.size() > 2 && a.rfind("--", 0) == 0) {
+      std::string name = a.substr(2), value;
+      const auto eq = name.find('=');
+      const bool inlineValue = eq != std::string::npos;
+      if (inlineValue) {
+        value = name.substr(eq + 1);
+        name = name.substr(0, eq);
+      }
+      if (flags.count(name)) {
+        if (inlineValue) return hlod::makeError("option --" + name + " takes no value");
+        args.values_[name] = "1";
+      } else if (options.count(name)) {
+        if (!inlineValue) {
+          if (i + 1 >= argv.size()) return hlod::makeError("option --" + name + " needs a value");
+          value = argv[++i];
+        }
+        args.values_[name] = value;
+      } else {
+        return hlod::makeError("unknown option --" + name);
+      }
+    } else if (a.size() == 2 && a[0] == '-' && a[1] != '-') {
+      // Short aliases: -o for --output.
+      const std::string name = a == "-o" ? "output" : "";
+      if (name.empty() || !options.count(name)) return hlod::makeError("unknown option " + a);
+      if (i + 1 >= argv.size()) return hlod::makeError("option " + a + " needs a value");
+      args.values_[name] = argv[++i];
+    } else {
+      args.positionals_.push_back(a);
+    }
+  }
+  return args;
+}
+
+std::optional<std::string> Args::get(const std::string& name) const {
+  const auto it = values_.find(name);
+  if (it == values_.end()) return std::nullopt;
+  return it->second;
+}
+
+std::string Args::get(const std::string& name, const std::string& fallback) const {
+  return get(name).value_or(fallback);
+}
+
+hlod::Result<double> Args::number(const std::string& name, double fallback, double lo,
+                                  double hi) const {
+  const auto v = get(name);
+  if (!v) return fallback;
+  errno = 0;
+  char* end = nullptr;
+  const double x = std::strtod(v->c_str(), &end);
+  if (v->empty() || *end != '\0' || errno != 0 || !std::isfinite(x))
+    return hlod::makeError("--" + name + ": '" + *v + "' is not a number");
+  if (x < lo || x > hi)
+    return hlod::makeError("--" + name + ": " + *v + " is outside [" + std::to_string(lo) + ", " +
+                           std::to_string(hi) + "]");
+  return x;
+}
+
+hlod::Result<long long> Args::integer(const std::string& name, long long fallback, long long lo,
+                                      long long hi) const {
+  const auto v = get(name);
+  if (!v) return fallback;
+  errno = 0;
+  char* end = nullptr;
+  const long long x = std::strtoll(v->c_str(), &end, 10);
+  if (v->empty() || *end != '\0' || errno != 0)
+    return hlod::makeError("--" + name + ": '" + *v + "' is not an integer");
+  if (x < lo || x > hi)
+    return hlod::makeError("--" + name + ": " + *v + " is outside [" + std::to_string(lo) + ", " +
+                           std::to_string(hi) + "]");
+  return x;
+}
+
+}  // namespace service

@@ -1,0 +1,71 @@
+#include "service/Cli.h"
+
+#include <cstdio>
+#include <cstring>
+#include <exception>
+
+#include "cmd/Commands.h"
+
+#ifndef HLODR_VERSION
+#define HLODR_VERSION "dev"
+#endif
+
+namespace service {
+
+const std::vector<Command>& commands() {
+  // One row per subcommand; the usage texts live beside each implementation.
+  static const std::vector<Command> table = {
+      {"city", "generate the procedural city (the default scene)", cmd::kCityUsage, cmd::runCity},
+      {"render", "render a frame of a mesh, city folder or node store", cmd::kRenderUsage,
+       cmd::runRender},
+  };
+  return table;
+}
+
+static void printHelp() {
+  std::printf("hlodr %s: headless HLOD rendering of huge models\n\nusage: hlodr COMMAND [ARGS]\n\n",
+              HLODR_VERSION);
+  for (const auto& c : commands()) std::printf("  %-10s %s\n", c.name, c.summary);
+  std::printf("\n`hlodr help COMMAND` or `hlodr COMMAND --help` shows a command's options.\n");
+}
+
+int runCli(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+    printHelp();
+    return argc < 2 ? 2 : 0;
+  }
+  if (!std::strcmp(argv[1], "--version")) {
+    std::printf("hlodr %s\n", HLODR_VERSION);
+    return 0;
+  }
+  std::string name = argv[1];
+  std::vector<std::string> args(argv + 2, argv + argc);
+  if (name == "help") {
+    if (args.empty()) {
+      printHelp();
+      return 0;
+    }
+    name = args[0];
+    args = {"--help"};
+  }
+  for (const auto& c : commands()) {
+    if (name != c.name) continue;
+    for (const auto& a : args) {
+      if (a == "--help" || a == "-h") {
+        std::printf("%s", c.usage);
+        return 0;
+      }
+    }
+    try {
+      return c.run(args);
+    } catch (const std::exception& e) {
+      // Bad data never throws by design; this catches resource exhaustion and bugs.
+      std::fprintf(stderr, "hlodr %s: internal error: %s\n", c.name, e.what());
+      return 1;
+    }
+  }
+  std::fprintf(stderr, "hlodr: unknown command '%s' (see `hlodr help`)\n", name.c_str());
+  return 2;
+}
+
+}  // namespace service

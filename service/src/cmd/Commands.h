@@ -1,0 +1,16 @@
+#pragma once
+// Declarations of the subcommands listed in Cli.cpp. One file per command in this folder.
+#include <string>
+#include <vector>
+
+namespace service::cmd {
+
+using Argv = std::vector<std::string>;
+
+extern const char* const kCityUsage;
+int runCity(const Argv& args);
+
+extern const char* const kRenderUsage;
+int runRender(const Argv& args);
+
+}  // namespace service::cmd
