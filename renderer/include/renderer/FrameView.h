@@ -1,0 +1,24 @@
+#pragma once
+// The camera of one frame, in double precision. The renderer draws camera-relative: for each
+// mesh it forms view * translate(centre - eye) in double and only then casts to float, so a model
+// 6,000 km from the origin draws as steadily as one at the origin.
+#include <glm/glm.hpp>
+
+namespace renderer {
+
+struct FrameView {
+  glm::dvec3 eye{0.0};
+  glm::dmat4 rotation{1.0};    // world -> view rotation (the look-at matrix without translation)
+  glm::dmat4 projection{1.0};  // reversed-Z (depth 1 at near, 0 at far), clip depth in [0, 1]
+  glm::dvec3 viewDir{0.0, 0.0, -1.0};
+};
+
+// Reversed-Z perspective for glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) and depth test
+// GREATER with a 32-bit float depth buffer: float precision is spent where distances are large.
+glm::dmat4 reversedZPerspective(double fovYRadians, double aspect, double zNear, double zFar);
+
+// Builds the view of a camera at eye looking at target.
+FrameView makeFrameView(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up,
+                        double fovYDegrees, double aspect, double zNear, double zFar);
+
+}  // namespace renderer

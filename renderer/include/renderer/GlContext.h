@@ -1,0 +1,59 @@
+#pragma once
+// A headless OpenGL 4.5 core context behind a small interface (as filament's platform layer):
+// one implementation per backend (EGL device, EGL surfaceless, OSMesa), picked at run time.
+// One context per thread; a context is made current on the thread that renders with it.
+#include <memory>
+#include <string>
+
+#include "hlod/Result.h"
+#include "renderer/GlFunctions.h"
+
+namespace renderer {
+
+enum class Backend { Auto, Egl, OsMesa };
+
+struct ContextInfo {
+  std::string backend;   // "egl-device", "egl-surfaceless" or "osmesa"
+  std::string version;   // GL_VERSION
+  std::string renderer;  // GL_RENDERER
+  std::string vendor;    // GL_VENDOR
+  std::string skipped;   // why earlier backends were skipped ("" if none)
+};
+
+class GlContext {
+ public:
+  virtual ~GlContext() = default;
+  GlContext(const GlContext&) = delete;
+  GlContext& operator=(const GlContext&) = delete;
+
+  virtual bool makeCurrent() = 0;
+  virtual void releaseCurrent() = 0;
+  virtual void* getProcAddress(const char* name) = 0;
+
+  const GlFunctions& gl() const { return gl_; }
+  const ContextInfo& info() const { return info_; }
+  void finish() { gl_.Finish(); }
+
+ protected:
+  GlContext() = default;
+
+ private:
+  // Filled once by the shared start-up check after a backend made the context current.
+  friend hlod::Status initialiseContext(GlContext& context, std::string backend,
+                                        std::string skipped);
+  friend hlod::Result<std::unique_ptr<GlContext>> createContext(Backend backend);
+  GlFunctions gl_;
+  ContextInfo info_;
+};
+
+// Parses HLODR_GL_BACKEND ("egl", "osmesa", "" or "auto"); an unknown value is an Error.
+hlod::Result<Backend> backendFromEnvironment();
+
+// Creates a context and makes it current. Auto: EGL (device platform when a driver offers a
+// hardware device, else Mesa surfaceless), then OSMesa. A forced backend that fails is an Error.
+hlod::Result<std::unique_ptr<GlContext>> createContext(Backend backend);
+
+// One log line: backend, GL version, renderer, and why other backends were skipped.
+std::string describe(const ContextInfo& info);
+
+}  // namespace renderer

@@ -1,0 +1,75 @@
+#include "renderer/GpuMesh.h"
+
+#include <vector>
+
+namespace renderer {
+
+hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl, const hlod::LocalMesh& mesh) {
+  const std::size_t n = mesh.positions.size();
+  if (mesh.normals.size() != n) return hlod::makeError("mesh normals do not match its vertices");
+  for (const auto i : mesh.indices)
+    if (i >= n) return hlod::makeError("mesh index out of range");
+  const bool hasUv = mesh.texCoords.size() == n;
+  const bool textured = hasUv && mesh.texture && !mesh.texture->empty();
+
+  // Interleaved: position (3f), normal (3f), texCoord (2f) = 32 bytes a vertex.
+  std::vector<float> interleaved(n * 8);
+  for (std::size_t i = 0; i < n; ++i) {
+    float* v = &interleaved[i * 8];
+    v[0] = mesh.positions[i].x, v[1] = mesh.positions[i].y, v[2] = mesh.positions[i].z;
+    v[3] = mesh.normals[i].x, v[4] = mesh.normals[i].y, v[5] = mesh.normals[i].z;
+    v[6] = hasUv ? mesh.texCoords[i].x : 0.0f, v[7] = hasUv ? mesh.texCoords[i].y : 0.0f;
+  }
+
+  GpuMesh out;
+  out.centre_ = mesh.centre;
+  out.baseColor_ = mesh.baseColor;
+  out.indexCount_ = mesh.indices.size();
+  out.vao_ = GlObject::create(gl, GlKind::VertexArray);
+  out.vbo_ = GlObject::create(gl, GlKind::Buffer);
+  out.ibo_ = GlObject::create(gl, GlKind::Buffer);
+  gl.BindVertexArray(out.vao_.id());
+  gl.BindBuffer(GL_ARRAY_BUFFER, out.vbo_.id());
+  gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)),
+                interleaved.data(), GL_STATIC_DRAW);
+  gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, out.ibo_.id());
+  gl.BufferData(GL_ELEMENT_ARRAY_BUFFER,
+                static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(std::uint32_t)),
+                mesh.indices.data(), GL_STATIC_DRAW);
+  constexpr GLsizei stride = 8 * sizeof(float);
+  gl.EnableVertexAttribArray(0);
+  gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  gl.EnableVertexAttribArray(1);
+  gl.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                         reinterpret_cast<const void*>(3 * sizeof(float)));
+  gl.EnableVertexAttribArray(2);
+  gl.VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
+                         reinterpret_cast<const void*>(6 * sizeof(float)));
+  gl.BindVertexArray(0);
+  out.gpuBytes_ = interleaved.size() * sizeof(float) + mesh.indices.size() * sizeof(std::uint32_t);
+
+  if (textured) {
+    const hlod::Image& img = *mesh.texture;
+    out.texture_ = GlObject::create(gl, GlKind::Texture);
+    gl.BindTexture(GL_TEXTURE_2D, out.texture_.id());
+    gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // Image row 0 is the top and v = 0 is the top (glTF convention): rows go up as they are.
+    gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, img.width, img.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                  img.pixels.data());
+    gl.GenerateMipmap(GL_TEXTURE_2D);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    gl.BindTexture(GL_TEXTURE_2D, 0);
+    out.gpuBytes_ += static_cast<std::uint64_t>(img.width) * img.height * 4 * 4 / 3;
+  }
+  return out;
+}
+
+void GpuMesh::draw(const GlFunctions& gl) const {
+  gl.BindVertexArray(vao_.id());
+  gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
+}
+
+}  // namespace renderer

@@ -1,0 +1,34 @@
+#pragma once
+// Loads what `hlodr render` is given: a mesh file or a city folder, into a Model; and picks a
+// default camera that frames it.
+#include <filesystem>
+
+#include "hlod/Mesh.h"
+#include "hlod/Result.h"
+#include "renderer/FrameView.h"
+
+namespace service {
+
+struct LoadedScene {
+  hlod::Model model;
+  glm::dvec3 up{0.0, 0.0, 1.0};  // cities are Z-up; mesh files (OFF, PLY, OBJ, glTF) Y-up
+  bool isCity = false;
+};
+
+hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quiet);
+
+struct CameraPose {
+  glm::dvec3 position{0.0};
+  glm::dvec3 target{0.0};
+  glm::dvec3 up{0.0, 0.0, 1.0};
+  double fovY = 50.0;  // degrees
+};
+
+// A three-quarter view from above that frames the whole box.
+CameraPose defaultCamera(const hlod::Aabb& bounds, const glm::dvec3& up, double fovY,
+                         double aspect);
+
+// Near and far planes that hold the box seen from the camera (reversed-Z makes a wide range safe).
+void clipPlanes(const CameraPose& camera, const hlod::Aabb& bounds, double& zNear, double& zFar);
+
+}  // namespace service

@@ -1,0 +1,67 @@
+#include "service/SceneLoading.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <unistd.h>
+
+#include "hlod/City.h"
+#include "hlod/Import.h"
+
+namespace service {
+
+hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quiet) {
+  LoadedScene scene;
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    return hlod::makeError(path.string() + ": no such file or folder");
+  if (hlod::isCityFolder(path)) {
+    auto manifest = hlod::readCityManifest(path);
+    if (!manifest) return manifest.error();
+    const bool progress = !quiet && isatty(STDERR_FILENO);
+    for (std::size_t i = 0; i < manifest->blocks.size(); ++i) {
+      auto block = hlod::loadCityBlock(*manifest, i);
+      if (!block) return block.error();
+      scene.model.meshes.push_back(std::move(*block));
+      if (progress)
+        std::fprintf(stderr, "\rloading city: block %zu/%zu", i + 1, manifest->blocks.size());
+    }
+    if (progress) std::fprintf(stderr, "\n");
+    scene.isCity = true;
+    scene.up = {0.0, 0.0, 1.0};
+    return scene;
+  }
+  if (std::filesystem::is_directory(path, ec))
+    return hlod::makeError(path.string() + ": a folder but not a city (no city.json)");
+  auto model = hlod::importModel(path);
+  if (!model) return model.error();
+  scene.model = std::move(*model);
+  scene.up = {0.0, 1.0, 0.0};
+  return scene;
+}
+
+CameraPose defaultCamera(const hlod::Aabb& bounds, const glm::dvec3& up, double fovY,
+                         double aspect) {
+  CameraPose cam;
+  cam.up = up;
+  cam.fovY = fovY;
+  cam.target = bounds.centre();
+  const double radius = std::max(glm::length(bounds.size()) * 0.5, 1e-6);
+  // A three-quarter view from above: most of the model shows, and so do its facades.
+  const glm::dvec3 dir = up.z > 0.5 ? glm::normalize(glm::dvec3(-0.55, -1.0, 0.8))
+                                    : glm::normalize(glm::dvec3(0.6, 0.55, 1.0));
+  const double halfFov = glm::radians(fovY) * 0.5;
+  const double halfFovX = std::atan(std::tan(halfFov) * aspect);
+  const double distance = radius / std::sin(std::min(halfFov, halfFovX));
+  cam.position = cam.target + dir * distance;
+  return cam;
+}
+
+void clipPlanes(const CameraPose& camera, const hlod::Aabb& bounds, double& zNear, double& zFar) {
+  const double radius = std::max(glm::length(bounds.size()) * 0.5, 1e-6);
+  const double d = glm::length(camera.position - bounds.centre());
+  zFar = d + radius * 1.5;
+  zNear = std::max((d - radius) * 0.5, zFar * 1e-6);
+}
+
+}  // namespace service
