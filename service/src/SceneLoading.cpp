@@ -50,9 +50,24 @@ CameraPose defaultCamera(const hlod::Aabb& bounds, const glm::dvec3& up, double 
   // A three-quarter view from above: most of the model shows, and so do its facades.
   const glm::dvec3 dir = up.z > 0.5 ? glm::normalize(glm::dvec3(-0.55, -1.0, 0.8))
                                     : glm::normalize(glm::dvec3(0.6, 0.55, 1.0));
-  const double halfFov = glm::radians(fovY) * 0.5;
-  const double halfFovX = std::atan(std::tan(halfFov) * aspect);
-  const double distance = radius / std::sin(std::min(halfFov, halfFovX));
+  // Tightest distance along dir at which all eight corners of the box lie inside the frustum:
+  // a corner r (relative to the target) at lateral offsets x, y and depth d - r.dir needs
+  // d >= r.dir + |x| / tan(halfFovX) and d >= r.dir + |y| / tan(halfFovY).
+  const double tanY = std::tan(glm::radians(fovY) * 0.5), tanX = tanY * aspect;
+  glm::dvec3 right = glm::cross(-dir, up);
+  right = glm::length(right) > 1e-9 ? glm::normalize(right) : glm::dvec3(1, 0, 0);
+  const glm::dvec3 upView = glm::cross(right, -dir);
+  double distance = radius * 1e-3;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 corner((i & 1) ? bounds.max.x : bounds.min.x,
+                            (i & 2) ? bounds.max.y : bounds.min.y,
+                            (i & 4) ? bounds.max.z : bounds.min.z);
+    const glm::dvec3 r = corner - cam.target;
+    const double along = glm::dot(r, dir);
+    distance = std::max({distance, along + std::abs(glm::dot(r, right)) / tanX,
+                         along + std::abs(glm::dot(r, upView)) / tanY});
+  }
+  distance *= 1.05;  // a small margin
   cam.position = cam.target + dir * distance;
   return cam;
 }

@@ -13,4 +13,13 @@ int runCity(const Argv& args);
 extern const char* const kRenderUsage;
 int runRender(const Argv& args);
 
+extern const char* const kBuildUsage;
+int runBuild(const Argv& args);
+
+extern const char* const kInfoUsage;
+int runInfo(const Argv& args);
+
+extern const char* const kCalibrateUsage;
+int runCalibrate(const Argv& args);
+
 }  // namespace service::cmd

@@ -1,0 +1,85 @@
+#pragma once
+// Per-frame statistics of a path run and their summary: the figures of Lakhia sec. IV (HLODs
+// drawn per level, up/down toggles, actual vs target frame time) plus loading and memory.
+//
+// stats.json: {"frames": [FrameRecord...], "summary": FrameSummary}. Field names and units:
+//   frames[i]: index (frame number), time (s, path time), targetMs (budget, ms), estimatedMs
+//     (selector's sum of timeNeeded, ms), gpuMs (frame time: GL work through glFinish, uploads
+//     included, ms; the "actual" time compared with the target), cpuMs (wall time of the whole
+//     frame, ms), selectorMs (front selection CPU time, ms), triangles, nodesPerLevel (array,
+//     index = level), upToggles, downToggles, vTime (ms per unit of cost), residentBytes,
+//     capBytes (0 = none), loadsStarted, loadsFinished, unloads (cumulative counts),
+//     coarserNotResident (nodes drawn coarser because a visible child was not resident), stalls
+//     (frames or waits the renderer counted as a stall, e.g. settled-mode waits).
+//   summary: frames, medianRelError and p95RelError (of |gpuMs - targetMs| / targetMs),
+//     shareOverTarget and shareOver125 (fraction of frames with gpuMs > target, > 1.25 target),
+//     p99OverTarget (p99 of gpuMs / targetMs), meanGpuMs, totalStalls, peakResidentBytes,
+//     capBytes, peakOverCap (peak / cap, 0 when no cap), togglesPerFrame ((up+down)/frames),
+//     totalUpToggles, totalDownToggles.
+// stats.csv: one row per frame with the same names; nodesPerLevel as columns level0, level1...
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "hlod/Result.h"
+
+namespace hlod {
+
+struct Selection;
+struct LoaderCounters;
+
+struct FrameRecord {
+  std::uint64_t index = 0;
+  double time = 0.0;
+  double targetMs = 0.0;
+  double estimatedMs = 0.0;
+  double gpuMs = 0.0;
+  double cpuMs = 0.0;
+  double selectorMs = 0.0;
+  std::uint64_t triangles = 0;
+  std::vector<std::uint32_t> nodesPerLevel;
+  std::uint32_t upToggles = 0;
+  std::uint32_t downToggles = 0;
+  double vTime = 0.0;
+  std::uint64_t residentBytes = 0;
+  std::uint64_t capBytes = 0;
+  std::uint64_t loadsStarted = 0;
+  std::uint64_t loadsFinished = 0;
+  std::uint64_t unloads = 0;
+  std::uint32_t coarserNotResident = 0;
+  std::uint32_t stalls = 0;
+};
+
+// Copies the selector's part (targetMs, estimatedMs, triangles, levels, toggles, vTime, ...).
+void fillFromSelection(FrameRecord& record, const Selection& selection);
+// Copies the loader's part (residentBytes, capBytes, load/unload counts).
+void fillFromLoader(FrameRecord& record, const LoaderCounters& counters);
+
+struct FrameSummary {
+  std::uint64_t frames = 0;
+  double medianRelError = 0.0;
+  double p95RelError = 0.0;
+  double shareOverTarget = 0.0;
+  double shareOver125 = 0.0;
+  double p99OverTarget = 0.0;
+  double meanGpuMs = 0.0;
+  std::uint64_t totalStalls = 0;
+  std::uint64_t peakResidentBytes = 0;
+  std::uint64_t capBytes = 0;
+  double peakOverCap = 0.0;
+  double togglesPerFrame = 0.0;
+  std::uint64_t totalUpToggles = 0;
+  std::uint64_t totalDownToggles = 0;
+};
+
+// Frames with targetMs <= 0 are left out of the error figures.
+FrameSummary summarize(std::span<const FrameRecord> frames);
+
+std::string statsJson(std::span<const FrameRecord> frames, const FrameSummary& summary);
+std::string statsCsv(std::span<const FrameRecord> frames);
+Status writeStatsJson(const std::string& path, std::span<const FrameRecord> frames,
+                      const FrameSummary& summary);
+Status writeStatsCsv(const std::string& path, std::span<const FrameRecord> frames);
+
+}  // namespace hlod

@@ -1,0 +1,63 @@
+#pragma once
+// Lakhia, "Efficient Interactive Rendering of Detailed Models with Hierarchical Levels of Detail"
+// (shared/seeds/lakhia-hlod.txt), sec. III-C: breadth-first top-down front selection with
+// cost/benefit priority, time slicing (eq. 4), v_time feedback and urgency hysteresis.
+#include <cstdint>
+#include <vector>
+
+#include "hlod/Camera.h"
+#include "hlod/Selector.h"
+
+namespace hlod {
+
+// The priority heuristics of III-C for one node under one view.
+struct NodePriority {
+  double frustumVis = 0.0;   // 1 touching the frustum, falling linearly to 0 outside
+  double vis = 1.0;          // 1 + c_vis * frustumVis
+  double foreshorten = 1.0;  // 1 + facing * c_fore, at least 0
+  double distance = 1.0;     // max(c_minDistance, distance from the look-ahead camera to the box)
+  double benefit = 0.0;      // staticBenefit * vis * foreshorten / distance^2
+  double priority = 0.0;     // benefit / max(cost, c_minCost)
+  bool visible = false;      // the box touches the view frustum
+};
+
+// Per-frame quantities shared by every node's priority (frustum, look-ahead position).
+class PriorityModel {
+ public:
+  PriorityModel(const View& view, const LakhiaParams& params);
+  NodePriority evaluate(const NodeInfo& node) const;
+  const Frustum& frustum() const { return frustum_; }
+
+ private:
+  const LakhiaParams& params_;
+  Frustum frustum_;
+  glm::dvec3 lookAhead_;  // camera position + c_velocity * velocity
+  glm::dvec3 view_;       // the image plane normal: the camera's forward direction
+};
+
+class LakhiaSelector final : public Selector {
+ public:
+  LakhiaSelector(const Skeleton& skeleton, const SelectorParams& params = {});
+
+  std::string_view name() const override { return "lakhia"; }
+  Selection select(const View& view, const Residency& residency) override;
+
+  // Inspection for tests and debugging: the values of the last select().
+  double hyst(std::uint32_t node) const { return hyst_[node]; }
+  double timeSlice(std::uint32_t node) const { return timeSlice_[node]; }
+  double timeNeeded(std::uint32_t node) const;
+  double priority(std::uint32_t node) const { return priority_[node]; }
+  bool visitedLastFrame(std::uint32_t node) const { return visitFrame_[node] == frame_; }
+
+ private:
+  // Time slices (eq. 4) and hysteresis for one sibling set; returns cumHyst.
+  long long sliceSiblings(const std::vector<std::uint32_t>& visibleSiblings, double shareTime);
+  void updateHyst(std::uint32_t node);
+
+  std::vector<double> hyst_;
+  std::vector<double> timeSlice_;
+  std::vector<double> priority_;
+  std::vector<std::uint32_t> visitFrame_;  // frame a node's hyst was last updated
+};
+
+}  // namespace hlod

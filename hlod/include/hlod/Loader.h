@@ -1,0 +1,159 @@
+#pragma once
+// The loading thread (Lakhia III-D): fetches the highest-priority non-resident nodes from a
+// NodeSource a chunk at a time, so that a load can be pre-empted when priorities change between
+// chunks, decodes them, and keeps memory bounded by unloading the lowest-priority nodes.
+//
+//   maxMemory > c_memory * sum over resident nodes of cost      (the paper's bound, optional)
+//   residentBytes + bytes of loads in progress <= capBytes       (a hard cap in payload bytes)
+//
+// hlod_0 nodes are loaded synchronously by loadRoots() and never unloaded (they are what the
+// renderer falls back to). A node is loaded only when its parent is resident, and unloaded only
+// when none of its children are resident, so the resident set stays a tree closed upwards: the
+// selectors reach nodes only through resident parents.
+//
+// Threads: start() runs the work on an own std::thread; without it, step() does one unit of work
+// (one chunk read, or the decode that completes a node) on the caller's thread, for
+// deterministic tests. The render thread never waits: isResident() is lock-free,
+// residentPayload() and drainEvents() take a short lock.
+//
+// Pre-emption: when another node becomes the most important between two chunks, the partial
+// buffer of the interrupted node is kept (keepPartial, at most maxPartials buffers, their bytes
+// count against capBytes) and the load resumes where it stopped if that node comes back; a kept
+// buffer is dropped first when memory is needed. keepPartial = false drops it at once.
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "hlod/NodeSource.h"
+#include "hlod/Selector.h"
+
+namespace hlod {
+
+struct LoaderParams {
+  std::size_t chunkBytes = 64 * 1024;  // bytes read per step (the paper's "small portion")
+  double c_memory = 0.0;  // memory per unit of cost (bytes); 0 disables the paper's bound
+  double maxMemory = std::numeric_limits<double>::infinity();  // bytes, with c_memory
+  std::uint64_t capBytes = 0;  // hard cap on resident + in-progress payload bytes; 0 = no cap
+  double ioMbps = 0.0;         // emulated link speed, megabits per second; 0 = unthrottled
+  double ioLatencyMs = 0.0;    // emulated latency added to every chunk request
+  bool keepPartial = true;
+  std::size_t maxPartials = 4;
+};
+
+struct LoaderEvent {
+  enum class Kind { Loaded, Unloaded };
+  Kind kind = Kind::Loaded;
+  std::uint32_t node = kNoNode;
+  std::shared_ptr<const LocalMesh> mesh;  // the payload, for Loaded (kept alive for the upload)
+};
+
+struct LoaderCounters {
+  std::uint64_t loadsStarted = 0;   // nodes whose first chunk was requested
+  std::uint64_t loadsFinished = 0;  // nodes decoded and resident (hlod_0 included)
+  std::uint64_t unloads = 0;
+  std::uint64_t preemptions = 0;  // a load interrupted for a more important node
+  std::uint64_t loadErrors = 0;   // read or decode failures (the node is not retried)
+  std::uint64_t bytesRead = 0;
+  std::uint64_t residentBytes = 0;  // payload bytes of resident nodes
+  std::uint64_t inFlightBytes = 0;  // payload bytes reserved by loads in progress
+  std::uint64_t capBytes = 0;       // LoaderParams::capBytes (0 = none)
+  std::uint64_t peakBytes = 0;      // peak of residentBytes + inFlightBytes
+  std::uint64_t residentNodes = 0;
+  double residentCost = 0.0;    // sum of cost of resident nodes (for c_memory)
+  bool rootsExceedCap = false;  // hlod_0 alone is larger than capBytes (cap not enforceable)
+};
+
+class Loader final : public Residency {
+ public:
+  Loader(const NodeSource& source, LoaderParams params = {});
+  ~Loader() override;
+  Loader(const Loader&) = delete;
+  Loader& operator=(const Loader&) = delete;
+
+  // Loads every hlod_0 node synchronously (before the first frame). Errors name the node.
+  Status loadRoots();
+
+  // Background thread: start() once, stop() (or the destructor) joins it.
+  void start();
+  void stop();
+  bool running() const { return thread_.joinable(); }
+
+  // This frame's priorities (Selection::loadPriorities): replaces the previous frame's set.
+  void setWanted(std::span<const LoadRequest> requests);
+  // Look-ahead for a known path (nodes selected for future cameras): replaces the previous
+  // prefetch set. A node's priority is the larger of its wanted and prefetch priorities.
+  void prefetch(std::span<const LoadRequest> requests);
+
+  // One unit of work on the caller's thread: a chunk read, or the decode that finishes a node.
+  // Returns false when there is nothing to do that fits in memory. Do not mix with start().
+  bool step();
+
+  bool isResident(std::uint32_t node) const override;
+  std::shared_ptr<const LocalMesh> residentPayload(std::uint32_t node) const;
+  // Loaded/Unloaded events since the last call, in order.
+  std::vector<LoaderEvent> drainEvents();
+  LoaderCounters counters() const;
+  std::uint32_t currentLoad() const;  // the node being read, kNoNode when none
+  std::string lastError() const;
+
+  // Settled mode: waits until all nodes are resident (true) or the timeout passes (false).
+  // Only wanted/prefetched nodes get loaded. Without the thread it steps on the caller's thread.
+  bool waitUntilResident(std::span<const std::uint32_t> nodes, std::chrono::milliseconds timeout);
+  // Waits until nothing more can be loaded for the current wanted set (all loaded, or memory
+  // full of more important nodes). Returns false on timeout.
+  bool waitUntilIdle(std::chrono::milliseconds timeout);
+
+ private:
+  struct Partial {
+    std::vector<std::byte> bytes;
+    std::uint64_t filled = 0;
+  };
+
+  double priorityOf(std::uint32_t node) const;  // -1 when neither wanted nor prefetched
+  std::uint32_t chooseLocked();
+  bool makeRoomLocked(std::uint32_t node, double priority);
+  void unloadLocked(std::uint32_t node);
+  bool hasResidentChildLocked(std::uint32_t node) const;
+  void dropPartialLocked(std::uint32_t node);
+  void finishLocked(std::uint32_t node, Result<LocalMesh> mesh);
+  void throttle(std::size_t bytes) const;
+  void run();
+
+  const NodeSource& source_;
+  const Skeleton& skeleton_;
+  LoaderParams params_;
+
+  mutable std::mutex mutex_;  // guards everything below except residentFlag_
+  std::unique_ptr<std::atomic<bool>[]> residentFlag_;
+  std::vector<std::shared_ptr<const LocalMesh>> resident_;
+  std::vector<std::uint8_t> isRoot_;
+  std::vector<std::uint8_t> failed_;
+  std::unordered_map<std::uint32_t, double> wanted_;
+  std::unordered_map<std::uint32_t, double> prefetch_;
+  std::vector<std::pair<double, std::uint32_t>> order_;  // wanted non-resident, best first
+  bool orderDirty_ = true;
+  std::map<std::uint32_t, std::unique_ptr<Partial>> partials_;
+  std::uint32_t current_ = kNoNode;
+  std::vector<LoaderEvent> events_;
+  LoaderCounters counters_;
+  std::string lastError_;
+  bool idle_ = false;
+
+  std::mutex stepMutex_;                // one step at a time
+  std::condition_variable workCv_;      // new priorities, or stop
+  std::condition_variable progressCv_;  // a node loaded, or idle
+  bool stop_ = false;
+  std::thread thread_;
+};
+
+}  // namespace hlod

@@ -1,0 +1,103 @@
+#pragma once
+// The node store on disk, NAME.hlod/ (a folder), written by the HLOD builder:
+//   skeleton.bin  the Skeleton (every NodeInfo field), build parameters and a checksum; loaded
+//   whole. payload.bin   the node payloads, one after another, read on demand in chunks with pread.
+// Formats (little-endian; each versioned, every count and offset bounds-checked on read):
+//   skeleton.bin: "HLODSKEL", u32 version, u32 0x01020304, build params, store facts, node
+//     records, root list, then a 64-bit FNV-1a of all preceding bytes.
+//   payload: u32 "HLPL", u32 version, u32 vertexCount, u32 indexCount, u32 flags (1: texCoords),
+//     u32 texWidth, u32 texHeight, f32 baseColor[4], f32 positions[3 vc] (relative to the node's
+//     centre), f32 normals[3 vc], f32 texCoords[2 vc] (if flagged), u32 indices[ic], u8 RGBA
+//     pixels[4 w h]. NodeInfo::payloadChecksum is the CRC-32 of these bytes.
+// A truncated or corrupted store is an Error when opened or decoded, never a crash.
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "hlod/NodeSource.h"
+
+namespace hlod {
+
+constexpr std::uint32_t kSkeletonFormatVersion = 1;
+constexpr std::uint32_t kPayloadFormatVersion = 1;
+
+// Facts about a whole store, beside the Skeleton.
+struct StoreFacts {
+  std::uint64_t inputTriangles = 0;
+  std::uint32_t blockCount = 0;
+  double buildSeconds = 0.0;
+  std::uint64_t payloadBytes = 0;  // size of payload.bin
+};
+
+// CRC-32 (IEEE, as zlib) of bytes.
+std::uint32_t crc32(std::span<const std::byte> bytes);
+
+// Payload encoding of one node's mesh (see the format above).
+std::vector<std::byte> encodePayload(const LocalMesh& mesh);
+// Decodes with strict checks: exact size, checksum, counts against sizes, index < vertex count,
+// finite values. centre is the node's centre (from the skeleton).
+Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, std::uint32_t checksum,
+                                     const glm::dvec3& centre);
+
+// skeleton.bin encoding; decoding verifies the checksum and the tree's structure.
+std::vector<std::byte> encodeSkeleton(const Skeleton& skeleton, const StoreFacts& facts);
+struct DecodedSkeleton {
+  Skeleton skeleton;
+  StoreFacts facts;
+};
+Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes);
+
+class NodeStore final : public NodeSource {
+ public:
+  static Result<std::unique_ptr<NodeStore>> open(const std::filesystem::path& dir);
+  ~NodeStore() override;
+  NodeStore(const NodeStore&) = delete;
+  NodeStore& operator=(const NodeStore&) = delete;
+
+  const Skeleton& skeleton() const override { return skeleton_; }
+  const StoreFacts& facts() const { return facts_; }
+  // Thread-safe (pread).
+  Status readPayloadChunk(std::uint32_t node, std::uint64_t offset,
+                          std::span<std::byte> out) const override;
+  Result<LocalMesh> decodePayload(std::uint32_t node,
+                                  std::span<const std::byte> bytes) const override;
+  // Reads and decodes a whole payload: the loader's two steps in one, for tools and tests.
+  Result<LocalMesh> loadNode(std::uint32_t node) const;
+
+ private:
+  NodeStore() = default;
+  int fd_ = -1;
+  Skeleton skeleton_;
+  StoreFacts facts_;
+};
+
+// Writes a store into a temporary folder beside the destination and renames it into place in
+// finish(), so a failed build leaves no half store. Destroying an unfinished writer removes the
+// temporary folder.
+class NodeStoreWriter {
+ public:
+  static Result<std::unique_ptr<NodeStoreWriter>> create(const std::filesystem::path& dir);
+  ~NodeStoreWriter();
+  NodeStoreWriter(const NodeStoreWriter&) = delete;
+  NodeStoreWriter& operator=(const NodeStoreWriter&) = delete;
+
+  // Appends a node's payload; fills the node's payloadOffset, payloadSize, payloadChecksum.
+  Status appendPayload(const LocalMesh& mesh, NodeInfo& node);
+  // Writes skeleton.bin, flushes, and renames the folder to its destination (replacing an
+  // existing store there).
+  Status finish(const Skeleton& skeleton, StoreFacts facts);
+  std::uint64_t payloadBytes() const { return payloadBytes_; }
+
+ private:
+  NodeStoreWriter() = default;
+  std::filesystem::path dir_, tmp_;
+  std::FILE* payload_ = nullptr;
+  std::uint64_t payloadBytes_ = 0;
+  bool finished_ = false;
+};
+
+}  // namespace hlod

@@ -1,0 +1,37 @@
+#pragma once
+// Per-node pre-processed values (Lakhia III-B): bounding box, cost (eq. 1), static benefit
+// (eq. 2) and average normal (eq. 3).
+#include <cstdint>
+
+#include "hlod/Mesh.h"
+
+namespace hlod {
+
+// c_tex used when neither --c-tex nor a calibration file gives one.
+constexpr double kDefaultCTex = 0.6;
+
+// Eq. 1: cost_n = numTexTri_n * c_tex + numUnTexTri_n * (1 - c_tex).
+double nodeCost(std::uint64_t numTexTri, std::uint64_t numUnTexTri, double cTex);
+
+// Eq. 2: staticBenefit_n = sqrt(numTri_n * sum of triangle areas).
+double staticBenefit(std::uint64_t numTri, double area);
+
+struct NodeMeasures {
+  Aabb bounds;
+  std::uint32_t numTri = 0;
+  std::uint32_t numTexTri = 0;  // triangles drawn with a texture
+  double area = 0.0;
+  double cost = 0.0;
+  double staticBenefit = 0.0;
+  glm::vec3 avgNormal{0.0f, 0.0f, 1.0f};
+};
+
+// Eq. 3: area-weighted average of the triangle normals, normalised. Zero-area triangles add
+// nothing; when nothing is left (no area, or normals cancelling out) the result is +Z, never NaN.
+glm::vec3 averageNormal(const Mesh& mesh);
+
+// All of the above for one node's mesh. A mesh is textured when it has a texture and one texture
+// coordinate per vertex; then all its triangles count as textured.
+NodeMeasures measureNode(const Mesh& mesh, double cTex);
+
+}  // namespace hlod

@@ -1,0 +1,187 @@
+#pragma once
+// Front selection: which HLOD nodes to draw this frame, with load priorities for the loader and
+// per-frame counters for the statistics of Lakhia sec. IV (levels drawn, toggles).
+//
+// One Selector per viewing session (it holds hysteresis counters, v_time and the last front).
+// select() and feedback() run on the render thread; nothing here uses threads, so tests drive
+// a selector frame by frame with a simulated frame time.
+//
+// Drive one frame:
+//   Selection s = selector->select(view, residency);   // residency: what the renderer can draw
+//   loader.setWanted(s.loadPriorities);                 // loader fetches what is missing
+//   ... draw s.front, measure the frame time ...
+//   selector->feedback(measuredMs);                      // v_time feedback loop
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hlod/Camera.h"
+#include "hlod/Result.h"
+#include "hlod/Skeleton.h"
+
+namespace hlod {
+
+// Which nodes can be drawn now. hlod_0 nodes must always answer true.
+class Residency {
+ public:
+  virtual ~Residency() = default;
+  virtual bool isResident(std::uint32_t node) const = 0;
+};
+
+// Everything resident: the reference case and most selector tests.
+class AllResident final : public Residency {
+ public:
+  bool isResident(std::uint32_t) const override { return true; }
+};
+
+// A plain residency set owned by one thread, e.g. the render thread's "uploaded to the GPU" set
+// kept up to date from Loader::drainEvents(). Unknown nodes are not resident.
+class ResidencySet final : public Residency {
+ public:
+  explicit ResidencySet(std::size_t nodeCount = 0) : resident_(nodeCount, 0) {}
+  void set(std::uint32_t node, bool resident) {
+    if (node >= resident_.size()) resident_.resize(node + 1, 0);
+    resident_[node] = resident ? 1 : 0;
+  }
+  bool isResident(std::uint32_t node) const override {
+    return node < resident_.size() && resident_[node] != 0;
+  }
+
+ private:
+  std::vector<std::uint8_t> resident_;
+};
+
+// A node the selector looked at, with its priority (higher = more important). Resident nodes are
+// listed too, so the loader can unload the lowest first.
+struct LoadRequest {
+  std::uint32_t node = kNoNode;
+  double priority = 0.0;
+};
+
+struct Selection {
+  std::vector<std::uint32_t> front;         // nodes to draw, each resident
+  double estimatedMs = 0.0;                 // sum of timeNeeded = v_time * cost of the front
+  double estimatedCost = 0.0;               // sum of cost (eq. 1) of the front
+  double targetMs = 0.0;                    // the budget this frame was selected for
+  double vTime = 0.0;                       // v_time used (ms per unit of cost)
+  std::vector<LoadRequest> loadPriorities;  // every visited node, resident or not
+  std::uint32_t upToggles = 0;    // nodes drawn last frame, replaced by their children now
+  std::uint32_t downToggles = 0;  // nodes whose children were drawn last frame, drawn now
+  std::uint32_t coarserBecauseNotResident = 0;    // drawn coarser: a visible child not resident
+  std::vector<std::uint32_t> nodesDrawnPerLevel;  // index = level d of hlod_d
+  std::uint64_t triangles = 0;                    // sum of numTri of the front
+};
+
+// The paper's constants (Lakhia III-C) plus the few this implementation adds; all documented.
+struct LakhiaParams {
+  double c_targetTime = 30.0;  // ms per frame: the budget (the paper's Fig. 9 uses 30 ms)
+  double c_vis = 4.0;          // vis = 1 + c_vis * frustumVis: weight of being in the frustum
+  // frustumVis falls linearly from 1 (touching the frustum) to 0 at c_visFalloff node-box
+  // diagonals outside it (scale-free: a small node must be nearer the frustum to matter).
+  double c_visFalloff = 1.0;
+  // foreshorten = 1 + facing * c_fore, facing = -(view . avgNormal): +1 for a surface facing the
+  // camera (its normal points back along the view direction), -1 facing away. Keep c_fore in
+  // [0,1) so foreshorten stays positive; it is clamped at 0 anyway.
+  double c_fore = 0.5;
+  // The distance is measured from the camera moved by c_velocity seconds of its velocity
+  // (the paper's "portion of the user's velocity": nodes ahead gain priority).
+  double c_velocity = 0.5;
+  double c_minDistance = 1.0;  // world units: distance = max(this, distance to box); no 1/0
+  double c_minCost = 1.0;      // cost floor (one triangle): priority and timeNeeded stay finite
+  // hyst is clamped to [-c_hystLimit, c_hystLimit]. Not a multiple of c_hystSwitch: a saturated
+  // counter that dips slightly below the limit (noise) then keeps its trunc(hyst/c_hystSwitch).
+  double c_hystLimit = 5.0;
+  double c_hystSwitch = 2.0;   // cumHyst = sum trunc(hyst / c_hystSwitch); in [1, c_hystLimit]
+  double c_hystInitial = 0.0;  // hyst of a node not visited the frame before (paper: 0)
+  // Refinement threshold (an addition to the paper, in units of cumHyst). The paper draws the
+  // children whenever cumHyst >= 0 and the parent when cumHyst < 0: a single threshold. With a
+  // noisy frame time, v_time jitters by a few %, the urgency of a group whose children just fit
+  // jitters around 0, its hyst random-walks across -c_hystSwitch and the group toggles forever
+  // under a still camera. So a group whose parent was drawn last frame is refined only when
+  // cumHyst >= c_hystRefine; a group already refined stays refined while cumHyst >= 0 (the
+  // paper's rule). 0 gives the paper's behaviour; 1 needs hyst >= c_hystSwitch for a lone child,
+  // always reachable because c_hystSwitch <= c_hystLimit.
+  long long c_hystRefine = 1;
+  // v_time feedback (see VTimeFeedback).
+  double vTimeInitial = 1e-5;  // ms per unit of cost: 100 M triangles/s as a first guess
+  double feedbackGain = 0.2;
+  double feedbackMaxRatio = 4.0;
+};
+
+struct SelectorParams {
+  LakhiaParams lakhia;      // budget, v_time loop and the priority terms shared by all selectors
+  double ssePixels = 16.0;  // SseSelector: refine while projected geometricError exceeds this
+};
+
+// The v_time feedback loop (Lakhia III-C: "v_time is adjusted in a feedback loop based on
+// comparing actual time used to render a frame with the estimated render time").
+// Update in the log domain: v_time <- v_time * r^gain, r = measuredMs / (v_time * drawnCost),
+// r clamped to [1/maxRatio, maxRatio]. Without a fixed overhead, measured/drawnCost is an
+// observation of the true ms-per-cost k, so log(v_time/k) shrinks by (1-gain) per frame: a
+// first-order low-pass with no overshoot for 0 < gain <= 1 (no oscillation), and frame-time
+// noise of relative size s moves v_time by about gain*s. The clamp keeps one outlier frame (a
+// page fault, a GC pause) from moving v_time by more than maxRatio^gain (1.32 with defaults).
+class VTimeFeedback {
+ public:
+  VTimeFeedback(double initial, double gain, double maxRatio);
+  // drawnCost: the summed cost of the frame that took measuredMs. Ignored when either is not
+  // positive and finite (an empty frame says nothing about the cost per triangle).
+  void update(double measuredMs, double drawnCost);
+  double vTime() const { return vTime_; }
+  void set(double vTime);
+
+ private:
+  double vTime_;
+  double gain_;
+  double maxRatio_;
+};
+
+class Selector {
+ public:
+  Selector(const Skeleton& skeleton, const SelectorParams& params);
+  virtual ~Selector() = default;
+  Selector(const Selector&) = delete;
+  Selector& operator=(const Selector&) = delete;
+
+  virtual std::string_view name() const = 0;
+  virtual Selection select(const View& view, const Residency& residency) = 0;
+
+  // The measured time of the frame drawn from the last selection (ms).
+  void feedback(double measuredMs);
+
+  double vTime() const { return feedback_.vTime(); }
+  void setVTime(double v) { feedback_.set(v); }
+  double targetMs() const { return params_.lakhia.c_targetTime; }
+  void setTargetMs(double ms) { params_.lakhia.c_targetTime = ms; }
+  const SelectorParams& params() const { return params_; }
+  const Skeleton& skeleton() const { return skeleton_; }
+
+ protected:
+  // Bookkeeping shared by all selectors: frame counter, toggles, the front and its counters.
+  Selection beginFrame();
+  void markRefined(std::uint32_t node, Selection& s);
+  void markDrawn(std::uint32_t node, Selection& s);
+  void finishFrame(Selection& s);
+  double effectiveCost(std::uint32_t node) const;  // max(cost, c_minCost)
+  bool refinedLastFrame(std::uint32_t node) const { return refinedFrame_[node] == frame_ - 1; }
+
+  const Skeleton& skeleton_;
+  SelectorParams params_;
+  std::uint32_t frame_ = 0;
+
+ private:
+  static constexpr std::uint32_t kNever = 0xffffffffu;
+  VTimeFeedback feedback_;
+  double lastEstimatedCost_ = 0.0;
+  std::uint32_t maxLevel_ = 0;
+  std::vector<std::uint32_t> drawnFrame_;    // last frame each node was drawn
+  std::vector<std::uint32_t> refinedFrame_;  // last frame each node was replaced by children
+};
+
+// "lakhia", "sse", "fs" or "full"; an unknown name is an Error listing the known ones.
+Result<std::unique_ptr<Selector>> makeSelector(std::string_view name, const Skeleton& skeleton,
+                                               const SelectorParams& params = {});
+
+}  // namespace hlod

@@ -1,0 +1,330 @@
+// Lakhia et al., "Interactive rendering of large city models", sec. III-A (model preparation)
+// and III-B (per-node pre-processing).
+#include "hlod/HlodBuilder.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "hlod/City.h"
+#include "hlod/PlaneSplit.h"
+
+namespace hlod {
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions& options,
+                                           const Simplifier& simplifier) {
+  std::vector<BlockNode> nodes;
+  Mesh welded = weldVertices(block);
+  if (welded.triangleCount() == 0) return nodes;
+  const int levelFactor = std::max(2, options.levelFactor);
+  const double desiredTri = std::max<std::uint32_t>(1, options.desiredTri);
+
+  // Pieces waiting to become nodes: their original (cut, unsimplified) triangles.
+  std::vector<Mesh> pieces;
+  nodes.emplace_back();
+  nodes[0].info.parent = kNoNode;
+  nodes[0].simplification = double(welded.triangleCount()) / desiredTri;  // s_hlod0
+  pieces.push_back(std::move(welded));
+
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    Mesh piece = std::move(pieces[i]);
+    pieces[i] = Mesh{};
+    const double s = nodes[i].simplification;
+    const Aabb box = piece.bounds();
+    nodes[i].info.bounds = box;
+    nodes[i].info.centre = box.centre();
+    const bool inner = s > 1.0 && box.size()[longestAxis(box)] > 0.0;
+    if (inner) {
+      const auto target =
+          std::max<std::size_t>(1, std::size_t(std::llround(double(piece.triangleCount()) / s)));
+      SimplifiedMesh simplified = simplifier.simplify(piece, target);
+      nodes[i].mesh = std::move(simplified.mesh);
+      nodes[i].info.geometricError = simplified.geometricError;
+      // Children: levelFactor slabs of the piece's original triangles, s_{d+1} = s_d / levelFactor.
+      SlabSplit slabs = splitIntoSlabs(piece, box, levelFactor);
+      nodes[i].cutAxis = slabs.axis;
+      nodes[i].cutPlanes = slabs.planes;
+      piece = Mesh{};
+      nodes[i].info.firstChild = std::uint32_t(nodes.size());
+      for (Mesh& child : slabs.pieces) {
+        if (child.triangleCount() == 0) continue;  // an empty slab is no node
+        BlockNode n;
+        n.info.parent = std::uint32_t(i);
+        n.info.level = nodes[i].info.level + 1;
+        n.simplification = s / double(levelFactor);
+        nodes.push_back(std::move(n));
+        pieces.push_back(std::move(child));
+        ++nodes[i].info.childCount;
+      }
+    } else {
+      nodes[i].mesh = std::move(piece);  // a leaf: the original triangles
+      nodes[i].info.geometricError = 0.0;
+    }
+  }
+  // A parent is never more accurate than its children: make the error monotone, bottom up.
+  for (std::size_t i = nodes.size(); i-- > 1;) {
+    auto& parent = nodes[nodes[i].info.parent].info;
+    parent.geometricError = std::max(parent.geometricError, nodes[i].info.geometricError);
+  }
+  return nodes;
+}
+
+namespace {
+
+struct MaterialKey {
+  const Image* texture;
+  float r, g, b, a;
+  bool operator<(const MaterialKey& o) const {
+    return std::tie(texture, r, g, b, a) < std::tie(o.texture, o.r, o.g, o.b, o.a);
+  }
+};
+
+void appendMesh(Mesh& dst, const Mesh& src) {
+  const auto base = std::uint32_t(dst.positions.size());
+  const bool dstEmpty = dst.positions.empty();
+  const bool n = (dstEmpty || dst.normals.size() == dst.positions.size()) &&
+                 src.normals.size() == src.positions.size();
+  const bool uv = (dstEmpty || dst.texCoords.size() == dst.positions.size()) &&
+                  src.texCoords.size() == src.positions.size();
+  if (!n) dst.normals.clear();
+  if (!uv) dst.texCoords.clear();
+  dst.positions.insert(dst.positions.end(), src.positions.begin(), src.positions.end());
+  if (n) dst.normals.insert(dst.normals.end(), src.normals.begin(), src.normals.end());
+  if (uv) dst.texCoords.insert(dst.texCoords.end(), src.texCoords.begin(), src.texCoords.end());
+  for (std::uint32_t i : src.indices) dst.indices.push_back(base + i);
+}
+
+void splitUntilSmall(Mesh mesh, std::size_t maxTriangles, int depth, std::vector<Mesh>& out) {
+  const Aabb box = mesh.bounds();
+  const int axis = longestAxis(box);
+  // Depth bound: triangles piled at one point cannot be separated by any plane.
+  if (mesh.triangleCount() <= maxTriangles || depth >= 48 || !(box.size()[axis] > 0.0)) {
+    out.push_back(std::move(mesh));
+    return;
+  }
+  PlaneSplitResult halves = splitByPlane(mesh, axis, box.centre()[axis]);
+  mesh = Mesh{};
+  if (halves.below.triangleCount() > 0)
+    splitUntilSmall(std::move(halves.below), maxTriangles, depth + 1, out);
+  if (halves.above.triangleCount() > 0)
+    splitUntilSmall(std::move(halves.above), maxTriangles, depth + 1, out);
+}
+
+}  // namespace
+
+std::vector<Mesh> cutIntoBlocks(const Model& model, std::size_t maxTriangles) {
+  // One texture per node payload: group meshes by material first.
+  std::map<MaterialKey, Mesh> groups;
+  for (const Mesh& m : model.meshes) {
+    if (m.triangleCount() == 0) continue;
+    const MaterialKey key{m.texture.get(), m.baseColor.r, m.baseColor.g, m.baseColor.b,
+                          m.baseColor.a};
+    auto [it, fresh] = groups.try_emplace(key);
+    if (fresh) {
+      it->second.name = m.name;
+      it->second.baseColor = m.baseColor;
+      it->second.texture = m.texture;
+    }
+    appendMesh(it->second, m);
+  }
+  std::vector<Mesh> blocks;
+  for (auto& [key, mesh] : groups) {
+    std::vector<Mesh> parts;
+    splitUntilSmall(weldVertices(mesh), std::max<std::size_t>(1, maxTriangles), 0, parts);
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      if (parts.size() > 1) parts[i].name = mesh.name + "#" + std::to_string(i);
+      blocks.push_back(std::move(parts[i]));
+    }
+  }
+  return blocks;
+}
+
+Image resizeImage(const Image& image, int width, int height) {
+  Image out;
+  out.width = width;
+  out.height = height;
+  out.pixels.resize(std::size_t(width) * height * 4);
+  const double sx = double(image.width) / width, sy = double(image.height) / height;
+  for (int y = 0; y < height; ++y) {
+    const int y0 = int(y * sy),
+              y1 = std::max(y0 + 1, std::min(image.height, int(std::ceil((y + 1) * sy))));
+    for (int x = 0; x < width; ++x) {
+      const int x0 = int(x * sx),
+                x1 = std::max(x0 + 1, std::min(image.width, int(std::ceil((x + 1) * sx))));
+      unsigned sum[4] = {0, 0, 0, 0};
+      for (int yy = y0; yy < y1; ++yy)
+        for (int xx = x0; xx < x1; ++xx)
+          for (int c = 0; c < 4; ++c)
+            sum[c] += image.pixels[(std::size_t(yy) * image.width + xx) * 4 + c];
+      const unsigned n = unsigned((y1 - y0) * (x1 - x0));
+      for (int c = 0; c < 4; ++c)
+        out.pixels[(std::size_t(y) * width + x) * 4 + c] = std::uint8_t((sum[c] + n / 2) / n);
+    }
+  }
+  return out;
+}
+
+std::shared_ptr<const Image> prepareNodeTexture(const Image& texture,
+                                                std::vector<glm::vec2>& texCoords, double factor) {
+  if (texture.empty() || texture.pixels.size() != std::size_t(texture.width) * texture.height * 4)
+    return nullptr;
+  int x0 = 0, y0 = 0, x1 = texture.width, y1 = texture.height;
+  glm::vec2 lo(1.0f), hi(0.0f);
+  bool inUnit = !texCoords.empty();
+  for (const auto& t : texCoords) {
+    if (!(t.x >= 0.0f && t.x <= 1.0f && t.y >= 0.0f && t.y <= 1.0f)) inUnit = false;
+    lo = glm::min(lo, t);
+    hi = glm::max(hi, t);
+  }
+  if (inUnit) {
+    // One texel of margin keeps bilinear filtering at the crop's edge on the right texels.
+    x0 = std::max(0, int(std::floor(lo.x * texture.width)) - 1);
+    y0 = std::max(0, int(std::floor(lo.y * texture.height)) - 1);
+    x1 = std::min(texture.width, int(std::ceil(hi.x * texture.width)) + 1);
+    y1 = std::min(texture.height, int(std::ceil(hi.y * texture.height)) + 1);
+    if (x1 <= x0 || y1 <= y0) x0 = 0, y0 = 0, x1 = texture.width, y1 = texture.height;
+  }
+  const int cw = x1 - x0, ch = y1 - y0;
+  const bool cropped = cw != texture.width || ch != texture.height;
+  if (cropped) {
+    for (auto& t : texCoords) {
+      t.x = (t.x * float(texture.width) - float(x0)) / float(cw);
+      t.y = (t.y * float(texture.height) - float(y0)) / float(ch);
+    }
+  }
+  const double scale = factor > 1.0 ? 1.0 / std::sqrt(factor) : 1.0;
+  const int w = std::min(cw, std::max(std::min(cw, kMinTextureSide), int(std::lround(cw * scale))));
+  const int h = std::min(ch, std::max(std::min(ch, kMinTextureSide), int(std::lround(ch * scale))));
+  if (!cropped && w == cw && h == ch) return std::make_shared<Image>(texture);
+  Image crop;
+  crop.width = cw;
+  crop.height = ch;
+  crop.pixels.resize(std::size_t(cw) * ch * 4);
+  for (int y = 0; y < ch; ++y)
+    std::copy_n(texture.pixels.begin() + (std::size_t(y + y0) * texture.width + x0) * 4,
+                std::size_t(cw) * 4, crop.pixels.begin() + std::size_t(y) * cw * 4);
+  if (w == cw && h == ch) return std::make_shared<Image>(std::move(crop));
+  return std::make_shared<Image>(resizeImage(crop, w, h));
+}
+
+Result<std::unique_ptr<HlodBuilder>> HlodBuilder::create(const std::filesystem::path& dir,
+                                                         const BuildOptions& options) {
+  if (options.levelFactor < 2 || options.levelFactor > 64)
+    return makeError("levelFactor must be an integer in [2, 64]");
+  if (options.desiredTri < 1) return makeError("desiredTri must be at least 1");
+  if (!(options.cTex >= 0.0 && options.cTex <= 1.0)) return makeError("c_tex must be in [0, 1]");
+  auto simplifier = makeSimplifier(options.simplifier);
+  if (!simplifier) return simplifier.error();
+  auto writer = NodeStoreWriter::create(dir);
+  if (!writer) return writer.error();
+  std::unique_ptr<HlodBuilder> b(new HlodBuilder());
+  b->options_ = options;
+  b->simplifier_ = std::move(*simplifier);
+  b->writer_ = std::move(*writer);
+  b->skeleton_.params.levelFactor = options.levelFactor;
+  b->skeleton_.params.desiredTri = options.desiredTri;
+  b->skeleton_.params.cTex = options.cTex;
+  b->skeleton_.params.simplifier = options.simplifier;
+  return b;
+}
+
+Status HlodBuilder::addBlock(const Mesh& block) {
+  inputTriangles_ += block.triangleCount();
+  std::vector<BlockNode> local = buildBlockHierarchy(block, options_, *simplifier_);
+  if (local.empty()) return Ok{};
+  if (skeleton_.nodes.size() + local.size() >= kNoNode) return makeError("too many nodes");
+  const auto base = std::uint32_t(skeleton_.nodes.size());
+  skeleton_.roots.push_back(base);
+  for (BlockNode& n : local) {
+    NodeInfo info = n.info;
+    if (info.parent != kNoNode) info.parent += base;
+    if (info.childCount > 0) info.firstChild += base;
+    info.block = blockCount_;
+    const NodeMeasures m = measureNode(n.mesh, options_.cTex);
+    info.numTri = m.numTri;
+    info.numTexTri = m.numTexTri;
+    info.cost = m.cost;
+    info.staticBenefit = m.staticBenefit;
+    info.avgNormal = m.avgNormal;
+    LocalMesh lm = toLocal(n.mesh);
+    lm.centre = info.centre;  // the piece's centre, so that node centres nest
+    for (std::size_t v = 0; v < n.mesh.positions.size(); ++v)
+      lm.positions[v] = glm::vec3(n.mesh.positions[v] - info.centre);
+    if (n.mesh.texture && lm.texCoords.size() == lm.positions.size())
+      lm.texture = prepareNodeTexture(*n.mesh.texture, lm.texCoords, n.simplification);
+    else
+      lm.texture = nullptr;
+    n.mesh = Mesh{};
+    if (auto s = writer_->appendPayload(lm, info); !s) return s;
+    skeleton_.nodes.push_back(info);
+  }
+  ++blockCount_;
+  return Ok{};
+}
+
+Result<Skeleton> HlodBuilder::finish(double buildSeconds) {
+  StoreFacts facts;
+  facts.inputTriangles = inputTriangles_;
+  facts.blockCount = blockCount_;
+  facts.buildSeconds = buildSeconds;
+  if (auto s = writer_->finish(skeleton_, facts); !s) return s.error();
+  return skeleton_;
+}
+
+Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::path& dir,
+                                     const BuildOptions& options, const BuildProgressFn& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto builder = HlodBuilder::create(dir, options);
+  if (!builder) return builder.error();
+  std::vector<Mesh> blocks = cutIntoBlocks(model, options.maxBlockTriangles);
+  BuildProgress p;
+  p.blockCount = blocks.size();
+  for (Mesh& block : blocks) {
+    if (auto s = (*builder)->addBlock(block); !s) return s.error();
+    p.trianglesDone += block.triangleCount();
+    block = Mesh{};
+    ++p.blocksDone;
+    p.seconds = secondsSince(t0);
+    if (progress) progress(p);
+  }
+  return (*builder)->finish(secondsSince(t0));
+}
+
+Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
+                                    const std::filesystem::path& dir, const BuildOptions& options,
+                                    const BuildProgressFn& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto manifest = readCityManifest(cityDir);
+  if (!manifest) return manifest.error();
+  auto builder = HlodBuilder::create(dir, options);
+  if (!builder) return builder.error();
+  BuildProgress p;
+  p.blockCount = manifest->blocks.size();
+  for (std::size_t i = 0; i < manifest->blocks.size(); ++i) {
+    // One block in memory at a time: load, build its subtree, free.
+    auto block = loadCityBlock(*manifest, i);
+    if (!block) return block.error();
+    // A city block is one texture already; split only blocks over the bound.
+    Model one;
+    one.meshes.push_back(std::move(*block));
+    for (const Mesh& part : cutIntoBlocks(one, options.maxBlockTriangles)) {
+      if (auto s = (*builder)->addBlock(part); !s) return s.error();
+      p.trianglesDone += part.triangleCount();
+    }
+    ++p.blocksDone;
+    p.seconds = secondsSince(t0);
+    if (progress) progress(p);
+  }
+  return (*builder)->finish(secondsSince(t0));
+}
+
+}  // namespace hlod

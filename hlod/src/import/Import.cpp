@@ -1,0 +1,159 @@
+// importModel: picks the reader by extension, then validates what every reader produced, so the
+// rest of hlodr can rely on finite coordinates, in-range indices and at least one triangle.
+#include "hlod/Import.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "import/ImportUtil.h"
+
+namespace hlod {
+namespace import {
+
+Result<std::string> readWholeFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    return fileError(path,
+                     std::filesystem::exists(path, ec) ? "not a regular file" : "file not found");
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return fileError(path, "cannot open file");
+  // One read of the known size; fall back to chunked reading for pipes and growing files.
+  std::string bytes;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > 0) {
+    bytes.resize(static_cast<std::size_t>(size));
+    bytes.resize(std::fread(bytes.data(), 1, bytes.size(), f));
+  }
+  char buffer[1 << 16];
+  std::size_t n;
+  while ((n = std::fread(buffer, 1, sizeof(buffer), f)) > 0) bytes.append(buffer, n);
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) return fileError(path, "read error");
+  return bytes;
+}
+
+void warn(const std::filesystem::path& path, const std::string& what) {
+  std::cerr << "warning: " << path.string() << ": " << what << '\n';
+}
+
+std::shared_ptr<const Image> TextureCache::load(const std::filesystem::path& meshFile,
+                                                const std::string& name) {
+  std::string cleaned = name;
+  // Files written on Windows use backslashes.
+  std::replace(cleaned.begin(), cleaned.end(), '\\', '/');
+  std::filesystem::path p(cleaned);
+  if (p.is_relative()) p = meshFile.parent_path() / p;
+  p = p.lexically_normal();
+  for (const auto& [q, img] : loaded_)
+    if (q == p) return img;
+  std::shared_ptr<const Image> image;
+  auto r = loadImage(p);
+  if (r.ok())
+    image = std::make_shared<const Image>(std::move(r).value());
+  else
+    warn(meshFile, "texture not loaded (" + r.message() + ")");
+  loaded_.emplace_back(p, image);
+  return image;
+}
+
+namespace {
+
+std::string lowerExtension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+
+// Checks the invariants the rest of hlodr relies on; drops meshes without triangles.
+Status validate(const std::filesystem::path& path, Model& model) {
+  std::vector<Mesh> kept;
+  kept.reserve(model.meshes.size());
+  std::size_t vertexBase = 0;
+  for (auto& mesh : model.meshes) {
+    const std::size_t n = mesh.positions.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& p = mesh.positions[i];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        return fileError(path, "vertex " + std::to_string(vertexBase + i) +
+                                   " has a non-finite coordinate (" + fmt(p.x) + ", " + fmt(p.y) +
+                                   ", " + fmt(p.z) + ")");
+    }
+    if (mesh.indices.size() % 3 != 0) return fileError(path, "index count is not a multiple of 3");
+    for (std::uint32_t idx : mesh.indices)
+      if (idx >= n)
+        return fileError(path, "face index " + std::to_string(idx) + " out of range (" +
+                                   std::to_string(n) + " vertices)");
+    if (!mesh.normals.empty() && mesh.normals.size() != n) mesh.normals.clear();
+    for (auto& nrm : mesh.normals)
+      if (!std::isfinite(nrm.x) || !std::isfinite(nrm.y) || !std::isfinite(nrm.z))
+        nrm = glm::vec3(0.0f);
+    if (!mesh.texCoords.empty() && mesh.texCoords.size() != n)
+      return fileError(path, "texture coordinate count differs from vertex count");
+    for (auto& uv : mesh.texCoords)
+      if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = glm::vec2(0.0f);
+    vertexBase += n;
+    if (!mesh.indices.empty()) kept.push_back(std::move(mesh));
+  }
+  model.meshes = std::move(kept);
+  if (model.meshes.empty()) return fileError(path, "mesh has no triangles");
+  return Ok{};
+}
+
+}  // namespace
+}  // namespace import
+
+bool isMeshFile(const std::filesystem::path& path) {
+  const std::string ext = import::lowerExtension(path);
+  return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl" || ext == ".gltf" ||
+         ext == ".glb";
+}
+
+Result<Model> importModel(const std::filesystem::path& path) {
+  using namespace import;
+  const std::string ext = lowerExtension(path);
+  if (!isMeshFile(path))
+    return fileError(path, "unknown mesh format '" + ext +
+                               "' (expected .obj, .ply, .off, .stl, "
+                               ".gltf or .glb)");
+  Result<Model> model = makeError("");
+  try {
+    if (ext == ".gltf" || ext == ".glb") {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(path, ec)) return fileError(path, "file not found");
+      model = readGltf(path, ext == ".glb");
+    } else {
+      auto bytes = readWholeFile(path);
+      if (!bytes.ok()) return bytes.error();
+      if (bytes->empty()) return fileError(path, "file is empty");
+      if (ext == ".ply")
+        model = readPly(path, *bytes);
+      else if (ext == ".off")
+        model = readOff(path, *bytes);
+      else if (ext == ".stl")
+        model = readStl(path, *bytes);
+      else
+        model = readObj(path, *bytes);
+    }
+  } catch (const std::bad_alloc&) {
+    return fileError(path, "out of memory while reading");
+  } catch (const std::exception& e) {
+    return fileError(path, std::string("read failed: ") + e.what());
+  }
+  if (!model.ok()) return model;
+  for (auto& mesh : model->meshes)
+    if (mesh.name.empty()) mesh.name = path.stem().string();
+  if (auto s = validate(path, *model); !s.ok()) return s.error();
+  return model;
+}
+
+}  // namespace hlod

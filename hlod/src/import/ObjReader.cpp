@@ -1,0 +1,281 @@
+// OBJ reader: v, vt, vn and f with every index form (v, v/t, v//n, v/t/n, negative = relative to
+// the end), polygons fan-triangulated, one Mesh per material (usemtl), materials from mtllib (Kd,
+// d/Tr, map_Kd relative to the OBJ folder). Vertices are shared per (v, vt, vn) tuple.
+#include <cmath>
+#include <unordered_map>
+
+#include "import/ImportUtil.h"
+
+namespace hlod::import {
+namespace {
+
+struct Material {
+  glm::vec4 baseColor{0.8f, 0.8f, 0.8f, 1.0f};
+  std::string texture;
+};
+
+struct Corner {
+  std::int64_t v = -1, t = -1, n = -1;  // 0-based, -1 when absent
+  bool operator==(const Corner& o) const { return v == o.v && t == o.t && n == o.n; }
+};
+
+struct CornerHash {
+  std::size_t operator()(const Corner& c) const {
+    return static_cast<std::size_t>(
+        mixBits(static_cast<std::uint64_t>(c.v) ^
+                mixBits(static_cast<std::uint64_t>(c.t) * 31 + static_cast<std::uint64_t>(c.n))));
+  }
+};
+
+struct Group {
+  std::string material;
+  Mesh mesh;
+  FlatIndexMap<Corner, CornerHash> corners;
+  bool anyTexCoord = false;
+  bool missingNormal = false;
+};
+
+// Skips the options of a map_Kd line ("-s 1 1 1", "-clamp on", ...): the rest is the file name.
+std::string textureName(std::string_view rest) {
+  TextScanner scan(rest);
+  while (true) {
+    scan.skipBlanks();
+    if (scan.atEnd() || *scan.position() != '-') break;
+    std::string_view opt = scan.token();
+    double d;
+    if (opt == "-imfchan" || opt == "-type" || opt == "-clamp" || opt == "-blendu" ||
+        opt == "-blendv" || opt == "-cc") {
+      scan.token();
+    } else {
+      while (scan.number(d)) {
+      }
+    }
+  }
+  scan.skipBlanks();
+  return std::string(scan.restOfLine());
+}
+
+void readMtl(const std::filesystem::path& objPath, const std::filesystem::path& mtlPath,
+             std::unordered_map<std::string, Material>& out) {
+  auto bytes = readWholeFile(mtlPath);
+  if (!bytes.ok()) {
+    warn(objPath, "material library not loaded (" + bytes.message() + ")");
+    return;
+  }
+  TextScanner scan(*bytes);
+  Material* current = nullptr;
+  while (true) {
+    scan.skipSpace('#');
+    if (scan.atEnd()) break;
+    std::string_view key = scan.token();
+    if (key == "newmtl") {
+      current = &out[std::string(scan.restOfLine())];
+      continue;
+    }
+    if (current) {
+      if (key == "Kd") {
+        double r = 0.8, g = 0.8, b = 0.8;
+        if (scan.number(r) && scan.number(g) && scan.number(b))
+          current->baseColor = glm::vec4(static_cast<float>(r), static_cast<float>(g),
+                                         static_cast<float>(b), current->baseColor.a);
+      } else if (key == "d") {
+        double d;
+        if (scan.number(d)) current->baseColor.a = static_cast<float>(d);
+      } else if (key == "Tr") {
+        double tr;
+        if (scan.number(tr)) current->baseColor.a = static_cast<float>(1.0 - tr);
+      } else if (key == "map_Kd") {
+        current->texture = textureName(scan.restOfLine());
+        continue;
+      }
+    }
+    scan.skipLine();
+  }
+}
+
+class ObjParser {
+ public:
+  ObjParser(const std::filesystem::path& path, const std::string& bytes)
+      : path_(path), scan_(bytes) {
+    // A rough upper bound from the file size keeps reallocations few on big files.
+    positions_.reserve(bytes.size() / 64);
+    groups_.push_back(Group{});
+  }
+
+  Result<Model> run() {
+    while (true) {
+      scan_.skipSpace();
+      if (scan_.atEnd()) break;
+      const std::size_t line = scan_.line();
+      std::string_view key = scan_.token();
+      if (key == "v") {
+        glm::dvec3 p;
+        if (!scan_.number(p.x) || !scan_.number(p.y) || !scan_.number(p.z))
+          return lineError(path_, line, "expected three vertex coordinates");
+        positions_.push_back(p);
+      } else if (key == "vt") {
+        double u, v = 0.0;
+        if (!scan_.number(u)) return lineError(path_, line, "expected a texture coordinate");
+        (void)scan_.number(v);
+        // OBJ has v up; glTF (ours) has v down.
+        texCoords_.emplace_back(static_cast<float>(u), static_cast<float>(1.0 - v));
+      } else if (key == "vn") {
+        double x, y, z;
+        if (!scan_.number(x) || !scan_.number(y) || !scan_.number(z))
+          return lineError(path_, line, "expected three normal components");
+        normals_.emplace_back(glm::dvec3(x, y, z));
+      } else if (key == "f") {
+        if (auto s = face(line); !s.ok()) return s.error();
+        continue;
+      } else if (key == "usemtl") {
+        useMaterial(std::string(scan_.restOfLine()));
+        continue;
+      } else if (key == "mtllib") {
+        std::string_view rest = scan_.restOfLine();
+        readMtl(path_, path_.parent_path() / std::string(rest), materials_);
+        continue;
+      }
+      // Other statements (o, g, s, l, p, comments, ...) carry nothing we draw.
+      scan_.skipLine();
+    }
+    return finish();
+  }
+
+ private:
+  void useMaterial(const std::string& name) {
+    for (std::size_t i = 0; i < groups_.size(); ++i)
+      if (groups_[i].material == name) {
+        current_ = i;
+        return;
+      }
+    // Faces before any usemtl use group 0 with the empty material: reuse it when still unused.
+    if (groups_.size() == 1 && groups_[0].material.empty() && groups_[0].mesh.indices.empty()) {
+      groups_[0].material = name;
+      current_ = 0;
+      return;
+    }
+    groups_.push_back(Group{});
+    groups_.back().material = name;
+    current_ = groups_.size() - 1;
+  }
+
+  // Resolves an OBJ index (1-based, or negative from the end) to 0-based; -2 when invalid.
+  static std::int64_t resolve(long long idx, std::size_t count) {
+    if (idx > 0) return idx <= static_cast<long long>(count) ? idx - 1 : -2;
+    if (idx < 0)
+      return -idx <= static_cast<long long>(count) ? static_cast<long long>(count) + idx : -2;
+    return -2;
+  }
+
+  Status face(std::size_t line) {
+    polygon_.clear();
+    while (!scan_.atEol()) {
+      std::string_view tok = scan_.token();
+      const char* p = tok.data();
+      const char* end = p + tok.size();
+      long long raw[3] = {0, 0, 0};
+      bool present[3] = {false, false, false};
+      for (int part = 0; part < 3; ++part) {
+        if (p < end && *p != '/') {
+          if (*p == '+') ++p;
+          auto [q, ec] = std::from_chars(p, end, raw[part]);
+          if (ec != std::errc())
+            return lineError(path_, line, "bad face corner '" + std::string(tok) + "'");
+          present[part] = true;
+          p = q;
+        }
+        if (p < end && *p == '/')
+          ++p;
+        else
+          break;
+      }
+      if (p != end || !present[0])
+        return lineError(path_, line, "bad face corner '" + std::string(tok) + "'");
+      Corner c;
+      c.v = resolve(raw[0], positions_.size());
+      if (c.v < 0)
+        return lineError(path_, line,
+                         "face index " + std::to_string(raw[0]) + " out of range (" +
+                             std::to_string(positions_.size()) + " vertices)");
+      if (present[1]) {
+        c.t = resolve(raw[1], texCoords_.size());
+        if (c.t < 0)
+          return lineError(path_, line,
+                           "texture coordinate index " + std::to_string(raw[1]) +
+                               " out of range (" + std::to_string(texCoords_.size()) + ")");
+      }
+      if (present[2]) {
+        c.n = resolve(raw[2], normals_.size());
+        if (c.n < 0)
+          return lineError(path_, line,
+                           "normal index " + std::to_string(raw[2]) + " out of range (" +
+                               std::to_string(normals_.size()) + ")");
+      }
+      polygon_.push_back(vertexOf(c));
+    }
+    scan_.skipLine();
+    for (std::size_t k = 1; k + 1 < polygon_.size(); ++k) {
+      auto& idx = groups_[current_].mesh.indices;
+      idx.push_back(polygon_[0]);
+      idx.push_back(polygon_[k]);
+      idx.push_back(polygon_[k + 1]);
+    }
+    return Ok{};
+  }
+
+  std::uint32_t vertexOf(const Corner& c) {
+    Group& g = groups_[current_];
+    auto [index, inserted] =
+        g.corners.insert(c, static_cast<std::uint32_t>(g.mesh.positions.size()));
+    if (inserted) {
+      g.mesh.positions.push_back(positions_[static_cast<std::size_t>(c.v)]);
+      g.mesh.texCoords.push_back(c.t >= 0 ? texCoords_[static_cast<std::size_t>(c.t)]
+                                          : glm::vec2(0.0f));
+      g.anyTexCoord = g.anyTexCoord || c.t >= 0;
+      g.mesh.normals.push_back(c.n >= 0 ? normals_[static_cast<std::size_t>(c.n)]
+                                        : glm::vec3(0.0f));
+      g.missingNormal = g.missingNormal || c.n < 0;
+    }
+    return index;
+  }
+
+  Result<Model> finish() {
+    Model model;
+    TextureCache textures;
+    for (auto& g : groups_) {
+      if (g.mesh.indices.empty()) continue;
+      if (!g.anyTexCoord) g.mesh.texCoords.clear();
+      // Partly missing normals would be zero vectors: let toLocal compute them all instead.
+      if (g.missingNormal) g.mesh.normals.clear();
+      g.mesh.name = g.material;
+      if (auto it = materials_.find(g.material); it != materials_.end()) {
+        g.mesh.baseColor = it->second.baseColor;
+        if (!it->second.texture.empty()) {
+          g.mesh.texture = textures.load(path_, it->second.texture);
+          if (g.mesh.texture) g.mesh.baseColor = glm::vec4(1.0f, 1.0f, 1.0f, g.mesh.baseColor.a);
+        }
+      }
+      g.corners.clear();
+      model.meshes.push_back(std::move(g.mesh));
+    }
+    return model;
+  }
+
+  const std::filesystem::path& path_;
+  TextScanner scan_;
+  std::vector<glm::dvec3> positions_;
+  std::vector<glm::vec2> texCoords_;
+  std::vector<glm::vec3> normals_;
+  std::vector<Group> groups_;
+  std::size_t current_ = 0;
+  std::vector<std::uint32_t> polygon_;
+  std::unordered_map<std::string, Material> materials_;
+};
+
+}  // namespace
+
+Result<Model> readObj(const std::filesystem::path& path, const std::string& bytes) {
+  return ObjParser(path, bytes).run();
+}
+
+}  // namespace hlod::import

@@ -1,0 +1,361 @@
+#include "hlod/CameraPath.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace hlod {
+
+namespace {
+
+using nlohmann::json;
+
+bool finite(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Catmull-Rom tangents for non-uniform knots: central differences over the neighbours' times,
+// one-sided at the ends. Continuous tangents at the knots make the Hermite spline C1.
+std::vector<glm::dvec3> tangents(const std::vector<CameraKeyframe>& k,
+                                 glm::dvec3 CameraKeyframe::*field) {
+  const std::size_t n = k.size();
+  std::vector<glm::dvec3> m(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t a = i == 0 ? 0 : i - 1;
+    const std::size_t b = i + 1 == n ? n - 1 : i + 1;
+    m[i] = (k[b].*field - k[a].*field) / (k[b].time - k[a].time);
+  }
+  return m;
+}
+
+glm::dvec3 hermite(const glm::dvec3& p0, const glm::dvec3& m0, const glm::dvec3& p1,
+                   const glm::dvec3& m1, double h, double s) {
+  const double s2 = s * s, s3 = s2 * s;
+  return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * h * m0 + (-2 * s3 + 3 * s2) * p1 +
+         (s3 - s2) * h * m1;
+}
+
+glm::dvec3 hermiteDerivative(const glm::dvec3& p0, const glm::dvec3& m0, const glm::dvec3& p1,
+                             const glm::dvec3& m1, double h, double s) {
+  const double s2 = s * s;
+  return ((6 * s2 - 6 * s) * p0 + (3 * s2 - 4 * s + 1) * h * m0 + (-6 * s2 + 6 * s) * p1 +
+          (3 * s2 - 2 * s) * h * m1) /
+         h;
+}
+
+Result<glm::dvec3> readVec3(const json& j, const char* key, std::size_t index) {
+  const std::string where = "keyframe " + std::to_string(index) + ": \"" + key + "\"";
+  if (!j.contains(key)) return makeError(where + " is missing");
+  const json& v = j.at(key);
+  if (!v.is_array() || v.size() != 3) return makeError(where + " must be an array of 3 numbers");
+  glm::dvec3 out;
+  for (int i = 0; i < 3; ++i) {
+    if (!v[i].is_number()) return makeError(where + " must be an array of 3 numbers");
+    out[i] = v[i].get<double>();
+  }
+  return out;
+}
+
+json toJson(const glm::dvec3& v) {
+  return json::array({v.x, v.y, v.z});
+}
+
+// Merged [lo, hi] intervals of the block boxes along one axis; the gaps between them are streets.
+std::vector<double> streetsAlong(const Skeleton& sk, int axis, double minGap) {
+  std::vector<std::pair<double, double>> iv;
+  for (std::uint32_t r : sk.roots) {
+    if (r >= sk.nodes.size() || sk.nodes[r].bounds.empty()) continue;
+    iv.push_back({sk.nodes[r].bounds.min[axis], sk.nodes[r].bounds.max[axis]});
+  }
+  std::sort(iv.begin(), iv.end());
+  std::vector<double> centres;
+  double hi = iv.empty() ? 0.0 : iv.front().second;
+  for (std::size_t i = 1; i < iv.size(); ++i) {
+    if (iv[i].first - hi >= minGap) centres.push_back((iv[i].first + hi) * 0.5);
+    hi = std::max(hi, iv[i].second);
+  }
+  return centres;
+}
+
+Aabb rootBounds(const Skeleton& sk) {
+  Aabb all;
+  for (std::uint32_t r : sk.roots) {
+    if (r < sk.nodes.size()) all.extend(sk.nodes[r].bounds);
+  }
+  return all;
+}
+
+constexpr double kMinStreet = 3.0;  // metres: narrower gaps are not streets
+
+}  // namespace
+
+Result<CameraPath> CameraPath::fromKeyframes(std::vector<CameraKeyframe> keyframes) {
+  if (keyframes.size() < 2) {
+    return makeError("camera path needs at least 2 keyframes, got " +
+                     std::to_string(keyframes.size()));
+  }
+  for (std::size_t i = 0; i < keyframes.size(); ++i) {
+    const CameraKeyframe& k = keyframes[i];
+    const std::string where = "keyframe " + std::to_string(i);
+    if (!std::isfinite(k.time) || !finite(k.position) || !finite(k.target) || !finite(k.up) ||
+        !std::isfinite(k.fovY)) {
+      return makeError(where + ": values must be finite numbers (NaN or infinity found)");
+    }
+    if (!(k.fovY > 0.0 && k.fovY < 180.0)) return makeError(where + ": fov must be in (0, 180)");
+    if (glm::length(k.target - k.position) <= 0.0) {
+      return makeError(where + ": target equals position (no view direction)");
+    }
+    if (glm::length(k.up) <= 0.0) return makeError(where + ": up is a zero vector");
+    if (i > 0 && !(k.time > keyframes[i - 1].time)) {
+      return makeError(where + ": times must be strictly increasing (" +
+                       std::to_string(keyframes[i - 1].time) + " then " + std::to_string(k.time) +
+                       ")");
+    }
+  }
+  CameraPath p;
+  p.keys_ = std::move(keyframes);
+  p.posTangent_ = tangents(p.keys_, &CameraKeyframe::position);
+  p.targetTangent_ = tangents(p.keys_, &CameraKeyframe::target);
+  p.upTangent_ = tangents(p.keys_, &CameraKeyframe::up);
+  return p;
+}
+
+Result<CameraPath> CameraPath::parse(std::string_view text) {
+  json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return makeError("camera path: malformed JSON");
+  const json* list = &j;
+  if (j.is_object()) {
+    if (!j.contains("keyframes")) return makeError("camera path: no \"keyframes\" array");
+    list = &j.at("keyframes");
+  }
+  if (!list->is_array()) return makeError("camera path: \"keyframes\" must be an array");
+  std::vector<CameraKeyframe> keys;
+  for (std::size_t i = 0; i < list->size(); ++i) {
+    const json& k = (*list)[i];
+    const std::string where = "keyframe " + std::to_string(i);
+    if (!k.is_object()) return makeError(where + " must be an object");
+    CameraKeyframe kf;
+    if (!k.contains("time") || !k.at("time").is_number()) {
+      return makeError(where + ": \"time\" must be a number");
+    }
+    kf.time = k.at("time").get<double>();
+    auto pos = readVec3(k, "position", i);
+    if (!pos) return pos.error();
+    auto tgt = readVec3(k, "target", i);
+    if (!tgt) return tgt.error();
+    kf.position = *pos;
+    kf.target = *tgt;
+    if (k.contains("up")) {
+      auto up = readVec3(k, "up", i);
+      if (!up) return up.error();
+      kf.up = *up;
+    }
+    if (k.contains("fov")) {
+      if (!k.at("fov").is_number()) return makeError(where + ": \"fov\" must be a number");
+      kf.fovY = k.at("fov").get<double>();
+    }
+    keys.push_back(kf);
+  }
+  return fromKeyframes(std::move(keys));
+}
+
+Result<CameraPath> CameraPath::read(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError("cannot open camera path '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  auto p = parse(ss.str());
+  if (!p) return makeError(path + ": " + p.message());
+  return p;
+}
+
+std::string CameraPath::toJson() const {
+  json keys = json::array();
+  for (const CameraKeyframe& k : keys_) {
+    keys.push_back({{"time", k.time},
+                    {"position", hlod::toJson(k.position)},
+                    {"target", hlod::toJson(k.target)},
+                    {"up", hlod::toJson(k.up)},
+                    {"fov", k.fovY}});
+  }
+  return json{{"keyframes", keys}}.dump(2);
+}
+
+Status CameraPath::write(const std::string& path) const {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return makeError("cannot write camera path '" + path + "'");
+  out << toJson() << '\n';
+  if (!out) return makeError("error writing camera path '" + path + "'");
+  return Ok{};
+}
+
+CameraSample CameraPath::sample(double t, double aspect, double nearPlane, double farPlane) const {
+  if (!std::isfinite(t)) t = startTime();
+  t = std::clamp(t, startTime(), endTime());
+  // The segment [keys_[i].time, keys_[i+1].time] holding t.
+  const auto it = std::upper_bound(keys_.begin(), keys_.end(), t,
+                                   [](double v, const CameraKeyframe& k) { return v < k.time; });
+  std::size_t i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, it - keys_.begin() - 1));
+  i = std::min(i, keys_.size() - 2);
+  const CameraKeyframe& a = keys_[i];
+  const CameraKeyframe& b = keys_[i + 1];
+  const double h = b.time - a.time;
+  const double s = std::clamp((t - a.time) / h, 0.0, 1.0);
+  CameraSample out;
+  out.time = t;
+  Camera& c = out.camera;
+  c.position = hermite(a.position, posTangent_[i], b.position, posTangent_[i + 1], h, s);
+  c.target = hermite(a.target, targetTangent_[i], b.target, targetTangent_[i + 1], h, s);
+  glm::dvec3 up = hermite(a.up, upTangent_[i], b.up, upTangent_[i + 1], h, s);
+  c.up = glm::length(up) > 1e-12 ? glm::normalize(up) : glm::normalize(a.up);
+  if (glm::length(c.target - c.position) <= 1e-12) c.target = c.position + (b.target - b.position);
+  c.fovY = a.fovY + (b.fovY - a.fovY) * s;
+  c.aspect = aspect;
+  c.nearPlane = nearPlane;
+  c.farPlane = farPlane;
+  out.velocity =
+      hermiteDerivative(a.position, posTangent_[i], b.position, posTangent_[i + 1], h, s);
+  return out;
+}
+
+std::vector<CameraSample> CameraPath::sampleAt(double fps, double aspect) const {
+  std::vector<CameraSample> out;
+  if (!(fps > 0.0) || !std::isfinite(fps)) return out;
+  const auto frames = static_cast<std::size_t>(std::floor(duration() * fps + 1e-9)) + 1;
+  out.reserve(frames);
+  for (std::size_t f = 0; f < frames; ++f) {
+    out.push_back(sample(startTime() + static_cast<double>(f) / fps, aspect));
+  }
+  return out;
+}
+
+Result<CameraPath> makeOrbitPath(const Skeleton& sk, double duration, double fovY) {
+  const Aabb b = rootBounds(sk);
+  if (b.empty()) return makeError("orbit path: the model has no hlod_0 bounds");
+  if (!(duration > 0.0)) duration = 30.0;
+  const glm::dvec3 c = b.centre();
+  const double r = std::max(1e-3, 0.5 * glm::length(b.size()));
+  // The bounding sphere fills the vertical field of view with 10% margin.
+  const double dist = 1.1 * r / std::sin(glm::radians(std::clamp(fovY, 1.0, 170.0)) * 0.5);
+  const double elevation = glm::radians(30.0);
+  std::vector<CameraKeyframe> keys;
+  const int n = 16;
+  for (int i = 0; i <= n; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / n;
+    CameraKeyframe k;
+    k.time = duration * i / n;
+    k.position = c + dist * glm::dvec3(std::cos(elevation) * std::cos(a),
+                                       std::cos(elevation) * std::sin(a), std::sin(elevation));
+    k.target = c;
+    k.fovY = fovY;
+    keys.push_back(k);
+  }
+  return CameraPath::fromKeyframes(std::move(keys));
+}
+
+Result<CameraPath> makeWalkFlyPath(const Skeleton& sk) {
+  const Aabb b = rootBounds(sk);
+  if (b.empty()) return makeError("walk-fly path: the model has no hlod_0 bounds");
+  const glm::dvec3 size = b.size();
+  const glm::dvec3 c = b.centre();
+  const double eye = b.min.z + 1.7;
+  // Walk along the street (a gap in X, running along Y) nearest the centre; outside the model
+  // when there is none.
+  std::vector<double> xs = streetsAlong(sk, 0, kMinStreet);
+  double sx = b.min.x - 3.0;
+  for (double x : xs) {
+    if (std::abs(x - c.x) < std::abs(sx - c.x)) sx = x;
+  }
+  const double walkSpeed = 2.0;  // m/s, a brisk walk
+  const double y0 = b.min.y - 2.0;
+  const double flyHeight = b.max.z + 0.8 * std::max(size.x, size.y);
+  std::vector<CameraKeyframe> keys;
+  auto key = [&](double t, glm::dvec3 p, glm::dvec3 target) {
+    CameraKeyframe k;
+    k.time = t;
+    k.position = p;
+    k.target = target;
+    keys.push_back(k);
+  };
+  // 0-15 s: walk, looking ahead along the street.
+  for (double t : {0.0, 5.0, 10.0, 15.0}) {
+    const double y = y0 + walkSpeed * t;
+    key(t, {sx, y, eye}, {sx, y + 30.0, eye});
+  }
+  const double yw = y0 + walkSpeed * 15.0;
+  // 15-24 s: rise while moving on, the view tilting down to the model centre.
+  key(19.0, {sx, yw + 12.0, eye + 0.25 * (flyHeight - eye)}, {sx, yw + 60.0, b.min.z});
+  key(24.0, {sx, c.y - 0.35 * size.y, 0.8 * flyHeight + 0.2 * eye}, {c.x, c.y, b.min.z});
+  // 24-35 s: fly over the whole model.
+  key(30.0, {c.x + 0.2 * size.x, c.y, flyHeight}, {c.x, c.y + 0.1 * size.y, b.min.z});
+  key(35.0, {c.x + 0.35 * size.x, c.y + 0.4 * size.y, flyHeight},
+      {c.x, c.y + 0.2 * size.y, b.min.z});
+  return CameraPath::fromKeyframes(std::move(keys));
+}
+
+Result<CameraPath> makeDrivePath(const Skeleton& sk) {
+  const Aabb b = rootBounds(sk);
+  if (b.empty()) return makeError("drive path: the model has no hlod_0 bounds");
+  const double height = b.min.z + 1.5;
+  std::vector<double> xs = streetsAlong(sk, 0, kMinStreet);
+  std::vector<double> ys = streetsAlong(sk, 1, kMinStreet);
+  // A rectangular loop on the outermost inner streets (or just outside the model).
+  const double x0 = xs.size() >= 2 ? xs.front() : b.min.x - 4.0;
+  const double x1 = xs.size() >= 2 ? xs.back() : (xs.size() == 1 ? xs.front() : b.max.x + 4.0);
+  const double y0 = ys.size() >= 2 ? ys.front() : b.min.y - 4.0;
+  const double y1 = ys.size() >= 2 ? ys.back() : (ys.size() == 1 ? ys.front() : b.max.y + 4.0);
+  std::vector<glm::dvec3> corners = {
+      {x0, y0, height}, {x1, y0, height}, {x1, y1, height}, {x0, y1, height}};
+  double loop = 0.0;
+  for (int i = 0; i < 4; ++i) loop += glm::length(corners[(i + 1) % 4] - corners[i]);
+  if (!(loop > 1.0)) return makeError("drive path: the model is too small for streets");
+  const double speed = 17.0;  // m/s, about 60 km/h
+  const double duration = std::clamp(loop / speed, 20.0, 40.0);
+  const double length = duration * speed;
+  // Keyframes every 10 m along the loop, cutting corners by `round` metres (a smooth turn).
+  const double round = std::min(8.0, 0.25 * std::min(std::abs(x1 - x0), std::abs(y1 - y0)));
+  std::vector<glm::dvec3> pts;
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec3 a = corners[i], bb = corners[(i + 1) % 4];
+    const double len = glm::length(bb - a);
+    if (!(len > 1e-9)) continue;
+    const glm::dvec3 d = (bb - a) / len;
+    const double usable = std::max(0.0, len - 2.0 * round);
+    const int segments = std::max(1, static_cast<int>(std::ceil(usable / 10.0)));
+    for (int k = 0; k <= segments; ++k) pts.push_back(a + d * (round + usable * k / segments));
+  }
+  std::vector<CameraKeyframe> keys;
+  double t = 0.0, travelled = 0.0;
+  for (std::size_t i = 0;; ++i) {
+    const glm::dvec3 p = pts[i % pts.size()];
+    const glm::dvec3 next = pts[(i + 1) % pts.size()];
+    if (i > 0) {
+      const double step = glm::length(p - pts[(i - 1) % pts.size()]);
+      if (step <= 1e-9) continue;
+      if (travelled + step > length) break;
+      travelled += step;
+      t += step / speed;
+    }
+    CameraKeyframe k;
+    k.time = t;
+    k.position = p;
+    k.target = p + glm::normalize(next - p) * 20.0;
+    keys.push_back(k);
+    if (keys.size() > 10000) break;
+  }
+  return CameraPath::fromKeyframes(std::move(keys));
+}
+
+Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton) {
+  if (kind == "walk-fly") return makeWalkFlyPath(skeleton);
+  if (kind == "drive") return makeDrivePath(skeleton);
+  if (kind == "orbit") return makeOrbitPath(skeleton);
+  return makeError("unknown camera path '" + std::string(kind) +
+                   "' (known: walk-fly, drive, orbit)");
+}
+
+}  // namespace hlod

@@ -1,0 +1,169 @@
+#include "hlod/FrameStats.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "hlod/Loader.h"
+#include "hlod/Selector.h"
+
+namespace hlod {
+
+namespace {
+
+// Nearest-rank percentile of a sorted list (q in [0, 1]).
+double percentile(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return 0.0;
+  const double rank = std::ceil(q * static_cast<double>(sorted.size()));
+  const std::size_t i = static_cast<std::size_t>(std::clamp(rank, 1.0, double(sorted.size()))) - 1;
+  return sorted[i];
+}
+
+double finiteOrZero(double v) {
+  return std::isfinite(v) ? v : 0.0;
+}
+
+Status writeText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return makeError("cannot write '" + path + "'");
+  out << text;
+  if (!out) return makeError("error writing '" + path + "'");
+  return Ok{};
+}
+
+}  // namespace
+
+void fillFromSelection(FrameRecord& r, const Selection& s) {
+  r.targetMs = s.targetMs;
+  r.estimatedMs = s.estimatedMs;
+  r.triangles = s.triangles;
+  r.nodesPerLevel = s.nodesDrawnPerLevel;
+  r.upToggles = s.upToggles;
+  r.downToggles = s.downToggles;
+  r.vTime = s.vTime;
+  r.coarserNotResident = s.coarserBecauseNotResident;
+}
+
+void fillFromLoader(FrameRecord& r, const LoaderCounters& c) {
+  r.residentBytes = c.residentBytes;
+  r.capBytes = c.capBytes;
+  r.loadsStarted = c.loadsStarted;
+  r.loadsFinished = c.loadsFinished;
+  r.unloads = c.unloads;
+}
+
+FrameSummary summarize(std::span<const FrameRecord> frames) {
+  FrameSummary s;
+  s.frames = frames.size();
+  std::vector<double> rel, ratio;
+  std::size_t over = 0, over125 = 0;
+  double sumGpu = 0.0;
+  for (const FrameRecord& f : frames) {
+    sumGpu += finiteOrZero(f.gpuMs);
+    s.totalStalls += f.stalls;
+    s.totalUpToggles += f.upToggles;
+    s.totalDownToggles += f.downToggles;
+    s.peakResidentBytes = std::max(s.peakResidentBytes, f.residentBytes);
+    s.capBytes = std::max(s.capBytes, f.capBytes);
+    if (!(f.targetMs > 0.0) || !std::isfinite(f.gpuMs)) continue;
+    rel.push_back(std::abs(f.gpuMs - f.targetMs) / f.targetMs);
+    ratio.push_back(f.gpuMs / f.targetMs);
+    over += f.gpuMs > f.targetMs;
+    over125 += f.gpuMs > 1.25 * f.targetMs;
+  }
+  std::sort(rel.begin(), rel.end());
+  std::sort(ratio.begin(), ratio.end());
+  s.medianRelError = percentile(rel, 0.5);
+  s.p95RelError = percentile(rel, 0.95);
+  s.p99OverTarget = percentile(ratio, 0.99);
+  if (!rel.empty()) {
+    s.shareOverTarget = static_cast<double>(over) / rel.size();
+    s.shareOver125 = static_cast<double>(over125) / rel.size();
+  }
+  if (!frames.empty()) {
+    s.meanGpuMs = sumGpu / frames.size();
+    s.togglesPerFrame = static_cast<double>(s.totalUpToggles + s.totalDownToggles) / frames.size();
+  }
+  s.peakOverCap = s.capBytes > 0 ? double(s.peakResidentBytes) / double(s.capBytes) : 0.0;
+  return s;
+}
+
+std::string statsJson(std::span<const FrameRecord> frames, const FrameSummary& s) {
+  using nlohmann::json;
+  json list = json::array();
+  for (const FrameRecord& f : frames) {
+    list.push_back({{"index", f.index},
+                    {"time", finiteOrZero(f.time)},
+                    {"targetMs", finiteOrZero(f.targetMs)},
+                    {"estimatedMs", finiteOrZero(f.estimatedMs)},
+                    {"gpuMs", finiteOrZero(f.gpuMs)},
+                    {"cpuMs", finiteOrZero(f.cpuMs)},
+                    {"selectorMs", finiteOrZero(f.selectorMs)},
+                    {"triangles", f.triangles},
+                    {"nodesPerLevel", f.nodesPerLevel},
+                    {"upToggles", f.upToggles},
+                    {"downToggles", f.downToggles},
+                    {"vTime", finiteOrZero(f.vTime)},
+                    {"residentBytes", f.residentBytes},
+                    {"capBytes", f.capBytes},
+                    {"loadsStarted", f.loadsStarted},
+                    {"loadsFinished", f.loadsFinished},
+                    {"unloads", f.unloads},
+                    {"coarserNotResident", f.coarserNotResident},
+                    {"stalls", f.stalls}});
+  }
+  json summary = {{"frames", s.frames},
+                  {"medianRelError", s.medianRelError},
+                  {"p95RelError", s.p95RelError},
+                  {"shareOverTarget", s.shareOverTarget},
+                  {"shareOver125", s.shareOver125},
+                  {"p99OverTarget", s.p99OverTarget},
+                  {"meanGpuMs", s.meanGpuMs},
+                  {"totalStalls", s.totalStalls},
+                  {"peakResidentBytes", s.peakResidentBytes},
+                  {"capBytes", s.capBytes},
+                  {"peakOverCap", s.peakOverCap},
+                  {"togglesPerFrame", s.togglesPerFrame},
+                  {"totalUpToggles", s.totalUpToggles},
+                  {"totalDownToggles", s.totalDownToggles}};
+  return json{{"frames", list}, {"summary", summary}}.dump(1);
+}
+
+std::string statsCsv(std::span<const FrameRecord> frames) {
+  std::size_t levels = 0;
+  for (const FrameRecord& f : frames) levels = std::max(levels, f.nodesPerLevel.size());
+  std::ostringstream out;
+  out.precision(9);
+  out << "index,time,targetMs,estimatedMs,gpuMs,cpuMs,selectorMs,triangles,upToggles,downToggles,"
+         "vTime,residentBytes,capBytes,loadsStarted,loadsFinished,unloads,coarserNotResident,"
+         "stalls";
+  for (std::size_t l = 0; l < levels; ++l) out << ",level" << l;
+  out << '\n';
+  for (const FrameRecord& f : frames) {
+    out << f.index << ',' << finiteOrZero(f.time) << ',' << finiteOrZero(f.targetMs) << ','
+        << finiteOrZero(f.estimatedMs) << ',' << finiteOrZero(f.gpuMs) << ','
+        << finiteOrZero(f.cpuMs) << ',' << finiteOrZero(f.selectorMs) << ',' << f.triangles << ','
+        << f.upToggles << ',' << f.downToggles << ',' << finiteOrZero(f.vTime) << ','
+        << f.residentBytes << ',' << f.capBytes << ',' << f.loadsStarted << ',' << f.loadsFinished
+        << ',' << f.unloads << ',' << f.coarserNotResident << ',' << f.stalls;
+    for (std::size_t l = 0; l < levels; ++l) {
+      out << ',' << (l < f.nodesPerLevel.size() ? f.nodesPerLevel[l] : 0u);
+    }
+    out << '\n';
+  }
+  return out.str();
+}
+
+Status writeStatsJson(const std::string& path, std::span<const FrameRecord> frames,
+                      const FrameSummary& summary) {
+  return writeText(path, statsJson(frames, summary) + "\n");
+}
+
+Status writeStatsCsv(const std::string& path, std::span<const FrameRecord> frames) {
+  return writeText(path, statsCsv(frames));
+}
+
+}  // namespace hlod

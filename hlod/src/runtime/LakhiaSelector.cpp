@@ -1,0 +1,155 @@
+// Lakhia III-C front selection. See hlod/LakhiaSelector.h and the constants in LakhiaParams.
+#include "hlod/LakhiaSelector.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hlod {
+
+namespace {
+
+double finiteOr(double v, double fallback) {
+  return std::isfinite(v) ? v : fallback;
+}
+
+glm::dvec3 finiteOr(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : glm::dvec3(0.0);
+}
+
+}  // namespace
+
+PriorityModel::PriorityModel(const View& view, const LakhiaParams& params)
+    : params_(params),
+      frustum_(view.camera.frustum()),
+      lookAhead_(view.camera.position + finiteOr(params.c_velocity, 0.0) * finiteOr(view.velocity)),
+      view_(view.camera.forward()) {}
+
+NodePriority PriorityModel::evaluate(const NodeInfo& node) const {
+  NodePriority p;
+  const double outside = frustum_.distanceOutside(node.bounds);
+  p.visible = outside <= 0.0;
+  if (p.visible) {
+    p.frustumVis = 1.0;
+  } else {
+    const double falloff = params_.c_visFalloff * glm::length(node.bounds.size());
+    p.frustumVis = falloff > 0.0 ? std::max(0.0, 1.0 - outside / falloff) : 0.0;
+  }
+  p.vis = 1.0 + params_.c_vis * p.frustumVis;
+  const double facing = -glm::dot(view_, glm::dvec3(node.avgNormal));
+  p.foreshorten = std::max(0.0, 1.0 + finiteOr(facing, 0.0) * params_.c_fore);
+  const double minDistance = params_.c_minDistance > 0.0 ? params_.c_minDistance : 1e-6;
+  p.distance = std::max(minDistance, distanceToBox(lookAhead_, node.bounds));
+  const double staticBenefit = std::max(0.0, finiteOr(node.staticBenefit, 0.0));
+  p.benefit = finiteOr(staticBenefit * p.vis * p.foreshorten / (p.distance * p.distance), 0.0);
+  const double minCost = params_.c_minCost > 0.0 ? params_.c_minCost : 1e-9;
+  const double cost = std::isfinite(node.cost) ? std::max(node.cost, minCost) : minCost;
+  p.priority = finiteOr(p.benefit / cost, 0.0);
+  return p;
+}
+
+LakhiaSelector::LakhiaSelector(const Skeleton& skeleton, const SelectorParams& params)
+    : Selector(skeleton, params),
+      hyst_(skeleton.nodes.size(), 0.0),
+      timeSlice_(skeleton.nodes.size(), 0.0),
+      priority_(skeleton.nodes.size(), 0.0),
+      visitFrame_(skeleton.nodes.size(), 0xffffffffu) {}
+
+double LakhiaSelector::timeNeeded(std::uint32_t node) const {
+  return vTime() * effectiveCost(node);
+}
+
+void LakhiaSelector::updateHyst(std::uint32_t node) {
+  const LakhiaParams& p = params_.lakhia;
+  const double limit = std::max(0.0, p.c_hystLimit);
+  // A node not traversed in the previous frame starts afresh (its old counter is stale).
+  if (visitFrame_[node] != frame_ - 1) hyst_[node] = std::clamp(p.c_hystInitial, -limit, limit);
+  visitFrame_[node] = frame_;
+  // hyst_n <- hyst_n + (timeSlice_n - timeNeeded_n) / timeNeeded_n, clamped to +-c_hystLimit.
+  // timeNeeded >= v_time * c_minCost > 0, so the urgency is finite.
+  const double needed = timeNeeded(node);
+  const double urgency = finiteOr((timeSlice_[node] - needed) / needed, 0.0);
+  hyst_[node] = std::clamp(hyst_[node] + urgency, -limit, limit);
+}
+
+long long LakhiaSelector::sliceSiblings(const std::vector<std::uint32_t>& visibleSiblings,
+                                        double shareTime) {
+  // Eq. 4: timeSlice_n = shareTime_n * priority_n / sum over visible siblings of priority_i.
+  // All priorities zero (no area, or all facing away with c_fore = 1): share equally.
+  double sum = 0.0;
+  for (std::uint32_t n : visibleSiblings) sum += priority_[n];
+  const double count = static_cast<double>(visibleSiblings.size());
+  const bool byPriority = sum > 0.0 && std::isfinite(sum);
+  long long cumHyst = 0;
+  const double hystSwitch = std::max(1e-9, params_.lakhia.c_hystSwitch);
+  for (std::uint32_t n : visibleSiblings) {
+    timeSlice_[n] = byPriority ? shareTime * (priority_[n] / sum) : shareTime / count;
+    updateHyst(n);
+    // cumHyst = sum over siblings of trunc(hyst_i / c_hystSwitch).
+    cumHyst += static_cast<long long>(std::trunc(hyst_[n] / hystSwitch));
+  }
+  return cumHyst;
+}
+
+Selection LakhiaSelector::select(const View& view, const Residency& residency) {
+  Selection s = beginFrame();
+  const PriorityModel model(view, params_.lakhia);
+  const auto& nodes = skeleton_.nodes;
+
+  // Evaluates priority_ for a node and lists it for the loader; returns its visibility.
+  auto visit = [&](std::uint32_t n) {
+    const NodePriority np = model.evaluate(nodes[n]);
+    priority_[n] = np.priority;
+    timeSlice_[n] = 0.0;  // invisible nodes get no share (sib() holds visible nodes only)
+    s.loadPriorities.push_back({n, np.priority});
+    return np.visible;
+  };
+
+  // Level 0: the visible hlod_0 nodes share c_targetTime.
+  std::vector<std::uint32_t> visible;
+  for (std::uint32_t r : skeleton_.roots) {
+    if (r < nodes.size() && visit(r)) visible.push_back(r);
+  }
+  sliceSiblings(visible, params_.lakhia.c_targetTime);
+
+  // Breadth-first: every node in the queue is visible and resident; decide whether its visible
+  // children replace it.
+  std::vector<std::uint32_t> queue = visible;
+  std::vector<std::uint32_t> children;
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const std::uint32_t n = queue[head];
+    const NodeInfo& info = nodes[n];
+    if (info.childCount == 0 || info.firstChild >= nodes.size() ||
+        info.childCount > nodes.size() - info.firstChild) {
+      markDrawn(n, s);
+      continue;
+    }
+    children.clear();
+    for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c) {
+      if (visit(c)) children.push_back(c);
+    }
+    // shareTime of the children is the parent's timeSlice.
+    const long long cumHyst = sliceSiblings(children, timeSlice_[n]);
+    // Parent drawn when cumHyst < 0 (paper); refining anew needs cumHyst >= c_hystRefine.
+    const long long threshold =
+        refinedLastFrame(n) ? 0 : std::max(0LL, params_.lakhia.c_hystRefine);
+    if (cumHyst < threshold) {
+      markDrawn(n, s);
+      continue;
+    }
+    // A visible child that is not resident keeps all its siblings out: draw the parent.
+    const bool allResident = std::all_of(children.begin(), children.end(),
+                                         [&](std::uint32_t c) { return residency.isResident(c); });
+    if (!allResident) {
+      ++s.coarserBecauseNotResident;
+      markDrawn(n, s);
+      continue;
+    }
+    // Refined: the visible children take the node's place (invisible ones are not drawn).
+    markRefined(n, s);
+    queue.insert(queue.end(), children.begin(), children.end());
+  }
+  finishFrame(s);
+  return s;
+}
+
+}  // namespace hlod

@@ -1,0 +1,396 @@
+// Lakhia III-D loading thread. See hlod/Loader.h for the contract.
+#include "hlod/Loader.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hlod {
+
+Loader::Loader(const NodeSource& source, LoaderParams params)
+    : source_(source),
+      skeleton_(source.skeleton()),
+      params_(params),
+      residentFlag_(new std::atomic<bool>[source.skeleton().nodes.size()]),
+      resident_(source.skeleton().nodes.size()),
+      isRoot_(source.skeleton().nodes.size(), 0),
+      failed_(source.skeleton().nodes.size(), 0) {
+  for (std::size_t i = 0; i < resident_.size(); ++i) residentFlag_[i].store(false);
+  for (std::uint32_t r : skeleton_.roots) {
+    if (r < isRoot_.size()) isRoot_[r] = 1;
+  }
+  if (params_.chunkBytes == 0) params_.chunkBytes = 64 * 1024;
+  counters_.capBytes = params_.capBytes;
+}
+
+Loader::~Loader() {
+  stop();
+}
+
+Status Loader::loadRoots() {
+  std::lock_guard stepLock(stepMutex_);
+  for (std::uint32_t r : skeleton_.roots) {
+    if (r >= resident_.size())
+      return makeError("hlod_0 node " + std::to_string(r) + " out of range");
+    if (residentFlag_[r].load()) continue;
+    const std::uint64_t size = skeleton_.nodes[r].payloadSize;
+    std::vector<std::byte> bytes(size);
+    for (std::uint64_t off = 0; off < size; off += params_.chunkBytes) {
+      const std::size_t len =
+          static_cast<std::size_t>(std::min<std::uint64_t>(params_.chunkBytes, size - off));
+      throttle(len);
+      Status s = source_.readPayloadChunk(r, off, std::span<std::byte>(bytes.data() + off, len));
+      if (!s) return makeError("hlod_0 node " + std::to_string(r) + ": " + s.message());
+    }
+    Result<LocalMesh> mesh = source_.decodePayload(r, bytes);
+    if (!mesh) return makeError("hlod_0 node " + std::to_string(r) + ": " + mesh.message());
+    std::lock_guard lock(mutex_);
+    ++counters_.loadsStarted;
+    counters_.bytesRead += size;
+    finishLocked(r, std::move(mesh));
+  }
+  std::lock_guard lock(mutex_);
+  counters_.rootsExceedCap = params_.capBytes > 0 && counters_.residentBytes > params_.capBytes;
+  return Ok{};
+}
+
+void Loader::start() {
+  if (thread_.joinable()) return;
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = false;
+  }
+  thread_ = std::thread([this] { run(); });
+}
+
+void Loader::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  workCv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void Loader::run() {
+  for (;;) {
+    {
+      std::lock_guard lock(mutex_);
+      if (stop_) return;
+    }
+    if (!step()) {
+      std::unique_lock lock(mutex_);
+      workCv_.wait_for(lock, std::chrono::milliseconds(50), [&] { return stop_ || orderDirty_; });
+    }
+  }
+}
+
+void Loader::setWanted(std::span<const LoadRequest> requests) {
+  std::lock_guard lock(mutex_);
+  wanted_.clear();
+  for (const LoadRequest& r : requests) {
+    if (r.node >= resident_.size() || !std::isfinite(r.priority)) continue;
+    auto [it, inserted] = wanted_.try_emplace(r.node, r.priority);
+    if (!inserted) it->second = std::max(it->second, r.priority);
+  }
+  orderDirty_ = true;
+  idle_ = false;
+  workCv_.notify_one();
+}
+
+void Loader::prefetch(std::span<const LoadRequest> requests) {
+  std::lock_guard lock(mutex_);
+  prefetch_.clear();
+  for (const LoadRequest& r : requests) {
+    if (r.node >= resident_.size() || !std::isfinite(r.priority)) continue;
+    auto [it, inserted] = prefetch_.try_emplace(r.node, r.priority);
+    if (!inserted) it->second = std::max(it->second, r.priority);
+  }
+  orderDirty_ = true;
+  idle_ = false;
+  workCv_.notify_one();
+}
+
+double Loader::priorityOf(std::uint32_t node) const {
+  double p = -1.0;
+  if (auto it = wanted_.find(node); it != wanted_.end()) p = std::max(p, it->second);
+  if (auto it = prefetch_.find(node); it != prefetch_.end()) p = std::max(p, it->second);
+  return p;
+}
+
+bool Loader::hasResidentChildLocked(std::uint32_t node) const {
+  const NodeInfo& n = skeleton_.nodes[node];
+  for (std::uint32_t c = n.firstChild; c < n.firstChild + n.childCount && c < resident_.size();
+       ++c) {
+    if (resident_[c]) return true;
+  }
+  return false;
+}
+
+void Loader::dropPartialLocked(std::uint32_t node) {
+  auto it = partials_.find(node);
+  if (it == partials_.end()) return;
+  counters_.inFlightBytes -= it->second->bytes.size();
+  partials_.erase(it);
+  if (current_ == node) current_ = kNoNode;
+}
+
+void Loader::unloadLocked(std::uint32_t node) {
+  const NodeInfo& n = skeleton_.nodes[node];
+  resident_[node].reset();
+  residentFlag_[node].store(false);
+  counters_.residentBytes -= n.payloadSize;
+  counters_.residentCost -= n.cost;
+  --counters_.residentNodes;
+  ++counters_.unloads;
+  events_.push_back({LoaderEvent::Kind::Unloaded, node, nullptr});
+  orderDirty_ = true;
+}
+
+bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
+  const NodeInfo& info = skeleton_.nodes[node];
+  const bool capOn = params_.capBytes > 0;
+  const bool costOn = params_.c_memory > 0.0;
+  std::uint64_t bytes = counters_.residentBytes + counters_.inFlightBytes + info.payloadSize;
+  double cost = counters_.residentCost + info.cost;
+  auto fits = [&] {
+    return (!capOn || bytes <= params_.capBytes) &&
+           (!costOn || params_.c_memory * cost < params_.maxMemory);
+  };
+  if (fits()) return true;
+  if (capOn && info.payloadSize > params_.capBytes) return false;
+
+  // Victims less important than the node: kept partial buffers first (cheap to drop), then
+  // resident nodes without resident children, lowest priority first, deeper levels first.
+  struct Victim {
+    bool resident;
+    double priority;
+    std::uint32_t level;
+    std::uint32_t node;
+  };
+  std::vector<Victim> victims;
+  for (const auto& [n, part] : partials_) {
+    const double p = priorityOf(n);
+    if (n != node && p < priority) victims.push_back({false, p, skeleton_.nodes[n].level, n});
+  }
+  for (std::uint32_t n = 0; n < resident_.size(); ++n) {
+    if (!resident_[n] || isRoot_[n] || hasResidentChildLocked(n)) continue;
+    const double p = priorityOf(n);
+    if (p < priority) victims.push_back({true, p, skeleton_.nodes[n].level, n});
+  }
+  std::sort(victims.begin(), victims.end(), [](const Victim& a, const Victim& b) {
+    if (a.resident != b.resident) return !a.resident;
+    if (a.priority != b.priority) return a.priority < b.priority;
+    if (a.level != b.level) return a.level > b.level;
+    return a.node < b.node;
+  });
+  // Dry run first: evict nothing unless the node then fits.
+  std::size_t take = 0;
+  while (!fits() && take < victims.size()) {
+    const Victim& v = victims[take++];
+    const NodeInfo& vn = skeleton_.nodes[v.node];
+    bytes -= v.resident ? vn.payloadSize : partials_.at(v.node)->bytes.size();
+    if (v.resident) cost -= vn.cost;
+  }
+  if (!fits()) return false;
+  for (std::size_t i = 0; i < take; ++i) {
+    if (victims[i].resident) {
+      unloadLocked(victims[i].node);
+    } else {
+      dropPartialLocked(victims[i].node);
+    }
+  }
+  return true;
+}
+
+std::uint32_t Loader::chooseLocked() {
+  if (orderDirty_) {
+    order_.clear();
+    auto add = [&](const std::unordered_map<std::uint32_t, double>& m) {
+      for (const auto& [n, p] : m) {
+        if (!resident_[n] && !failed_[n]) order_.push_back({priorityOf(n), n});
+      }
+    };
+    add(wanted_);
+    add(prefetch_);
+    std::sort(order_.begin(), order_.end(), [](const auto& a, const auto& b) {
+      return a.first != b.first ? a.first > b.first : a.second < b.second;
+    });
+    order_.erase(std::unique(order_.begin(), order_.end()), order_.end());
+    orderDirty_ = false;
+  }
+  // A node that does not fit even after evicting everything less important rarely has a
+  // lower-priority successor that does (it may evict less): try a few, not the whole list,
+  // since each try scans the resident set.
+  int roomTries = 4;
+  for (const auto& [p, n] : order_) {
+    if (resident_[n] || failed_[n]) continue;
+    const std::uint32_t parent = skeleton_.nodes[n].parent;
+    if (parent != kNoNode && (parent >= resident_.size() || !resident_[parent])) continue;
+    if (partials_.count(n)) return n;  // memory already reserved
+    if (makeRoomLocked(n, p)) return n;
+    if (--roomTries == 0) break;
+  }
+  return kNoNode;
+}
+
+void Loader::throttle(std::size_t bytes) const {
+  double ms = std::max(0.0, params_.ioLatencyMs);
+  if (params_.ioMbps > 0.0) ms += static_cast<double>(bytes) * 8.0 / (params_.ioMbps * 1e3);
+  if (ms > 0.0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(ms));
+}
+
+bool Loader::step() {
+  std::lock_guard stepLock(stepMutex_);
+  std::uint32_t node;
+  Partial* part;
+  std::uint64_t offset, size;
+  std::size_t len;
+  {
+    std::lock_guard lock(mutex_);
+    node = chooseLocked();
+    if (node == kNoNode) {
+      idle_ = true;
+      progressCv_.notify_all();
+      return false;
+    }
+    idle_ = false;
+    if (current_ != kNoNode && current_ != node) {
+      ++counters_.preemptions;
+      if (!params_.keepPartial) dropPartialLocked(current_);
+    }
+    current_ = node;
+    size = skeleton_.nodes[node].payloadSize;
+    auto it = partials_.find(node);
+    if (it == partials_.end()) {
+      auto fresh = std::make_unique<Partial>();
+      fresh->bytes.resize(size);
+      it = partials_.emplace(node, std::move(fresh)).first;
+      counters_.inFlightBytes += size;
+      counters_.peakBytes =
+          std::max(counters_.peakBytes, counters_.residentBytes + counters_.inFlightBytes);
+      ++counters_.loadsStarted;
+      // Too many kept buffers: drop the least important other one.
+      while (partials_.size() > std::max<std::size_t>(1, params_.maxPartials)) {
+        std::uint32_t worst = kNoNode;
+        double worstP = 0.0;
+        for (const auto& [n, pp] : partials_) {
+          if (n == node) continue;
+          const double p = priorityOf(n);
+          if (worst == kNoNode || p < worstP) {
+            worst = n;
+            worstP = p;
+          }
+        }
+        dropPartialLocked(worst);
+      }
+    }
+    part = it->second.get();
+    offset = part->filled;
+    len = static_cast<std::size_t>(std::min<std::uint64_t>(params_.chunkBytes, size - offset));
+  }
+  // Only step() changes partials_, and steps are serialised: `part` stays valid unlocked.
+  if (len > 0) {
+    throttle(len);
+    Status s = source_.readPayloadChunk(node, offset,
+                                        std::span<std::byte>(part->bytes.data() + offset, len));
+    std::lock_guard lock(mutex_);
+    if (!s) {
+      finishLocked(node, Result<LocalMesh>(s.error()));
+      return true;
+    }
+    part->filled += len;
+    counters_.bytesRead += len;
+    if (part->filled < size) return true;
+  }
+  Result<LocalMesh> mesh = source_.decodePayload(node, part->bytes);
+  std::lock_guard lock(mutex_);
+  finishLocked(node, std::move(mesh));
+  return true;
+}
+
+void Loader::finishLocked(std::uint32_t node, Result<LocalMesh> mesh) {
+  dropPartialLocked(node);
+  if (current_ == node) current_ = kNoNode;
+  orderDirty_ = true;
+  if (!mesh) {
+    failed_[node] = 1;
+    ++counters_.loadErrors;
+    lastError_ = "node " + std::to_string(node) + ": " + mesh.message();
+    progressCv_.notify_all();
+    return;
+  }
+  const NodeInfo& n = skeleton_.nodes[node];
+  auto shared = std::make_shared<const LocalMesh>(std::move(mesh).value());
+  resident_[node] = shared;
+  residentFlag_[node].store(true);
+  counters_.residentBytes += n.payloadSize;
+  counters_.residentCost += n.cost;
+  ++counters_.residentNodes;
+  ++counters_.loadsFinished;
+  counters_.peakBytes =
+      std::max(counters_.peakBytes, counters_.residentBytes + counters_.inFlightBytes);
+  events_.push_back({LoaderEvent::Kind::Loaded, node, std::move(shared)});
+  progressCv_.notify_all();
+}
+
+bool Loader::isResident(std::uint32_t node) const {
+  return node < resident_.size() && residentFlag_[node].load(std::memory_order_acquire);
+}
+
+std::shared_ptr<const LocalMesh> Loader::residentPayload(std::uint32_t node) const {
+  std::lock_guard lock(mutex_);
+  return node < resident_.size() ? resident_[node] : nullptr;
+}
+
+std::vector<LoaderEvent> Loader::drainEvents() {
+  std::lock_guard lock(mutex_);
+  std::vector<LoaderEvent> out;
+  out.swap(events_);
+  return out;
+}
+
+LoaderCounters Loader::counters() const {
+  std::lock_guard lock(mutex_);
+  return counters_;
+}
+
+std::uint32_t Loader::currentLoad() const {
+  std::lock_guard lock(mutex_);
+  return current_;
+}
+
+std::string Loader::lastError() const {
+  std::lock_guard lock(mutex_);
+  return lastError_;
+}
+
+bool Loader::waitUntilResident(std::span<const std::uint32_t> nodes,
+                               std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  auto all = [&] {
+    return std::all_of(nodes.begin(), nodes.end(), [&](std::uint32_t n) { return isResident(n); });
+  };
+  if (!running()) {
+    while (!all()) {
+      if (std::chrono::steady_clock::now() > deadline || !step()) return all();
+    }
+    return true;
+  }
+  std::unique_lock lock(mutex_);
+  progressCv_.wait_until(lock, deadline, [&] { return all() || idle_; });
+  return all();
+}
+
+bool Loader::waitUntilIdle(std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  if (!running()) {
+    while (step()) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+    }
+    return true;
+  }
+  std::unique_lock lock(mutex_);
+  return progressCv_.wait_until(lock, deadline, [&] { return idle_; });
+}
+
+}  // namespace hlod

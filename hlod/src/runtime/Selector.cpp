@@ -1,0 +1,104 @@
+#include "hlod/Selector.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hlod/FsSelector.h"
+#include "hlod/FullSelector.h"
+#include "hlod/LakhiaSelector.h"
+#include "hlod/SseSelector.h"
+
+namespace hlod {
+
+namespace {
+constexpr double kMinVTime = 1e-12;
+constexpr double kMaxVTime = 1e6;
+}  // namespace
+
+VTimeFeedback::VTimeFeedback(double initial, double gain, double maxRatio)
+    : vTime_(kMinVTime),
+      gain_(std::isfinite(gain) ? std::clamp(gain, 0.0, 1.0) : 0.2),
+      maxRatio_(std::isfinite(maxRatio) && maxRatio > 1.0 ? maxRatio : 4.0) {
+  set(initial);
+}
+
+void VTimeFeedback::set(double vTime) {
+  if (std::isfinite(vTime) && vTime > 0.0) vTime_ = std::clamp(vTime, kMinVTime, kMaxVTime);
+}
+
+void VTimeFeedback::update(double measuredMs, double drawnCost) {
+  if (!(std::isfinite(measuredMs) && measuredMs > 0.0)) return;
+  if (!(std::isfinite(drawnCost) && drawnCost > 0.0)) return;
+  const double estimated = vTime_ * drawnCost;
+  const double ratio = std::clamp(measuredMs / estimated, 1.0 / maxRatio_, maxRatio_);
+  vTime_ = std::clamp(vTime_ * std::pow(ratio, gain_), kMinVTime, kMaxVTime);
+}
+
+Selector::Selector(const Skeleton& skeleton, const SelectorParams& params)
+    : skeleton_(skeleton),
+      params_(params),
+      feedback_(params.lakhia.vTimeInitial, params.lakhia.feedbackGain,
+                params.lakhia.feedbackMaxRatio),
+      drawnFrame_(skeleton.nodes.size(), kNever),
+      refinedFrame_(skeleton.nodes.size(), kNever) {
+  for (const NodeInfo& n : skeleton.nodes) maxLevel_ = std::max(maxLevel_, n.level);
+}
+
+void Selector::feedback(double measuredMs) {
+  feedback_.update(measuredMs, lastEstimatedCost_);
+}
+
+double Selector::effectiveCost(std::uint32_t node) const {
+  const double c = skeleton_.nodes[node].cost;
+  const double minCost = params_.lakhia.c_minCost > 0.0 ? params_.lakhia.c_minCost : 1e-9;
+  return std::isfinite(c) ? std::max(c, minCost) : minCost;
+}
+
+Selection Selector::beginFrame() {
+  ++frame_;
+  if (frame_ == kNever) frame_ = 1;  // wrap-around after 4 billion frames: forget the history
+  Selection s;
+  s.targetMs = params_.lakhia.c_targetTime;
+  s.vTime = feedback_.vTime();
+  s.nodesDrawnPerLevel.assign(skeleton_.nodes.empty() ? 0 : maxLevel_ + 1, 0);
+  return s;
+}
+
+void Selector::markRefined(std::uint32_t node, Selection& s) {
+  if (drawnFrame_[node] == frame_ - 1) ++s.upToggles;
+  refinedFrame_[node] = frame_;
+}
+
+void Selector::markDrawn(std::uint32_t node, Selection& s) {
+  if (refinedFrame_[node] == frame_ - 1) ++s.downToggles;
+  drawnFrame_[node] = frame_;
+  const NodeInfo& n = skeleton_.nodes[node];
+  s.front.push_back(node);
+  s.estimatedCost += effectiveCost(node);
+  s.triangles += n.numTri;
+  if (n.level < s.nodesDrawnPerLevel.size()) ++s.nodesDrawnPerLevel[n.level];
+}
+
+void Selector::finishFrame(Selection& s) {
+  s.estimatedMs = s.vTime * s.estimatedCost;
+  lastEstimatedCost_ = s.estimatedCost;
+}
+
+Result<std::unique_ptr<Selector>> makeSelector(std::string_view name, const Skeleton& skeleton,
+                                               const SelectorParams& params) {
+  std::unique_ptr<Selector> s;
+  if (name == "lakhia") {
+    s = std::make_unique<LakhiaSelector>(skeleton, params);
+  } else if (name == "sse") {
+    s = std::make_unique<SseSelector>(skeleton, params);
+  } else if (name == "fs") {
+    s = std::make_unique<FsSelector>(skeleton, params);
+  } else if (name == "full") {
+    s = std::make_unique<FullSelector>(skeleton, params);
+  } else {
+    return makeError("unknown selector '" + std::string(name) + "' (known: lakhia, sse, fs, full)");
+  }
+  return s;
+}
+
+}  // namespace hlod

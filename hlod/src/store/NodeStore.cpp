@@ -1,0 +1,152 @@
+#include "hlod/NodeStore.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <random>
+
+namespace hlod {
+
+namespace {
+
+Result<std::vector<std::byte>> readWholeFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError("cannot open " + path.string());
+  in.seekg(0, std::ios::end);
+  const auto size = in.tellg();
+  if (size < 0) return makeError("cannot read " + path.string());
+  in.seekg(0);
+  std::vector<std::byte> bytes(static_cast<std::size_t>(size));
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), size))
+    return makeError("cannot read " + path.string());
+  return bytes;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<NodeStore>> NodeStore::open(const std::filesystem::path& dir) {
+  auto bytes = readWholeFile(dir / "skeleton.bin");
+  if (!bytes) return makeError(dir.string() + " is not a node store: " + bytes.message());
+  auto decoded = decodeSkeleton(*bytes);
+  if (!decoded) return makeError(dir.string() + ": " + decoded.message());
+  std::unique_ptr<NodeStore> store(new NodeStore());
+  store->skeleton_ = std::move(decoded->skeleton);
+  store->facts_ = decoded->facts;
+  const auto payloadPath = dir / "payload.bin";
+  store->fd_ = ::open(payloadPath.c_str(), O_RDONLY | O_CLOEXEC);
+  if (store->fd_ < 0)
+    return makeError("cannot open " + payloadPath.string() + ": " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(store->fd_, &st) != 0 || std::uint64_t(st.st_size) != store->facts_.payloadBytes)
+    return makeError(payloadPath.string() + " has size " + std::to_string(st.st_size) +
+                     ", the skeleton expects " + std::to_string(store->facts_.payloadBytes) +
+                     " (truncated or from another build)");
+  return store;
+}
+
+NodeStore::~NodeStore() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+Status NodeStore::readPayloadChunk(std::uint32_t node, std::uint64_t offset,
+                                   std::span<std::byte> out) const {
+  if (node >= skeleton_.nodes.size()) return makeError("no node " + std::to_string(node));
+  const NodeInfo& n = skeleton_.nodes[node];
+  if (offset > n.payloadSize || out.size() > n.payloadSize - offset)
+    return makeError("read outside the payload of node " + std::to_string(node));
+  std::size_t done = 0;
+  while (done < out.size()) {
+    const ssize_t got =
+        ::pread(fd_, out.data() + done, out.size() - done, off_t(n.payloadOffset + offset + done));
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) return makeError(std::string("reading payload.bin: ") + std::strerror(errno));
+    if (got == 0) return makeError("payload.bin is shorter than the skeleton says (truncated)");
+    done += std::size_t(got);
+  }
+  return Ok{};
+}
+
+Result<LocalMesh> NodeStore::decodePayload(std::uint32_t node,
+                                           std::span<const std::byte> bytes) const {
+  if (node >= skeleton_.nodes.size()) return makeError("no node " + std::to_string(node));
+  const NodeInfo& n = skeleton_.nodes[node];
+  if (bytes.size() != n.payloadSize)
+    return makeError("payload of node " + std::to_string(node) + " has the wrong size");
+  auto mesh = decodePayloadBytes(bytes, n.payloadChecksum, n.centre);
+  if (!mesh) return makeError("node " + std::to_string(node) + ": " + mesh.message());
+  return mesh;
+}
+
+Result<LocalMesh> NodeStore::loadNode(std::uint32_t node) const {
+  if (node >= skeleton_.nodes.size()) return makeError("no node " + std::to_string(node));
+  std::vector<std::byte> bytes(skeleton_.nodes[node].payloadSize);
+  if (auto s = readPayloadChunk(node, 0, bytes); !s) return s.error();
+  return decodePayload(node, bytes);
+}
+
+Result<std::unique_ptr<NodeStoreWriter>> NodeStoreWriter::create(const std::filesystem::path& dir) {
+  std::unique_ptr<NodeStoreWriter> w(new NodeStoreWriter());
+  w->dir_ = dir;
+  std::random_device rd;
+  w->tmp_ = dir;
+  w->tmp_ += ".tmp-" + std::to_string(rd() % 1000000);
+  std::error_code ec;
+  std::filesystem::remove_all(w->tmp_, ec);
+  if (!std::filesystem::create_directories(w->tmp_, ec) || ec)
+    return makeError("cannot create " + w->tmp_.string() + ": " + ec.message());
+  w->payload_ = std::fopen((w->tmp_ / "payload.bin").c_str(), "wb");
+  if (!w->payload_) return makeError("cannot create " + (w->tmp_ / "payload.bin").string());
+  return w;
+}
+
+NodeStoreWriter::~NodeStoreWriter() {
+  if (payload_) std::fclose(payload_);
+  if (!finished_) {
+    std::error_code ec;
+    std::filesystem::remove_all(tmp_, ec);
+  }
+}
+
+Status NodeStoreWriter::appendPayload(const LocalMesh& mesh, NodeInfo& node) {
+  const std::vector<std::byte> bytes = encodePayload(mesh);
+  if (std::fwrite(bytes.data(), 1, bytes.size(), payload_) != bytes.size())
+    return makeError("cannot write payload.bin (disk full?)");
+  node.payloadOffset = payloadBytes_;
+  node.payloadSize = bytes.size();
+  node.payloadChecksum = crc32(bytes);
+  payloadBytes_ += bytes.size();
+  return Ok{};
+}
+
+Status NodeStoreWriter::finish(const Skeleton& skeleton, StoreFacts facts) {
+  facts.payloadBytes = payloadBytes_;
+  const bool flushed = std::fflush(payload_) == 0 && ::fsync(fileno(payload_)) == 0;
+  std::fclose(payload_);
+  payload_ = nullptr;
+  if (!flushed) return makeError("cannot write payload.bin (disk full?)");
+  const auto bytes = encodeSkeleton(skeleton, facts);
+  {
+    std::ofstream out(tmp_ / "skeleton.bin", std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    out.close();
+    if (!out) return makeError("cannot write skeleton.bin");
+  }
+  std::error_code ec;
+  // Replace an earlier store, but never some other folder the user named by mistake.
+  if (std::filesystem::exists(dir_, ec)) {
+    if (!std::filesystem::exists(dir_ / "skeleton.bin", ec))
+      return makeError(dir_.string() + " exists and is not a node store; not replacing it");
+    std::filesystem::remove_all(dir_, ec);
+  }
+  std::filesystem::rename(tmp_, dir_, ec);
+  if (ec)
+    return makeError("cannot move the store into place at " + dir_.string() + ": " + ec.message());
+  finished_ = true;
+  return Ok{};
+}
+
+}  // namespace hlod

@@ -1,0 +1,161 @@
+// `hlodr build`: turns a mesh, a glTF scene or a city folder into an HLOD node store.
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "cmd/Commands.h"
+#include "hlod/Calibration.h"
+#include "hlod/City.h"
+#include "hlod/HlodBuilder.h"
+#include "hlod/Import.h"
+#include "service/Args.h"
+
+namespace service::cmd {
+
+const char* const kBuildUsage =
+    "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tri N]\n"
+    "                   [--simplifier meshopt|openmesh] [--c-tex X] [--max-block-tri N]\n"
+    "                   [--quiet]\n"
+    "\n"
+    "Builds the HLOD node store (Lakhia et al. III-A/B) that `hlodr render` streams from disk.\n"
+    "INPUT is a city folder (with city.json; blocks are loaded one at a time) or one or more\n"
+    "mesh files (OBJ, PLY, OFF, STL, glTF/GLB), whose meshes are grouped by material and cut\n"
+    "into blocks of at most --max-block-tri triangles along their longest axis.\n"
+    "Per block: hlod_0 is the block simplified to desiredTri triangles; each level down has\n"
+    "levelFactor times more detail, cut into levelFactor pieces perpendicular to the longest\n"
+    "dimension, down to leaves that hold the original triangles. Cut vertices are locked so\n"
+    "neighbouring nodes meet without cracks.\n"
+    "\n"
+    "options:\n"
+    "  -o, --output DIR     the store folder to write (written under a temporary name and\n"
+    "                       renamed at the end; replaces an earlier store there)\n"
+    "  --level-factor N     C_levelFactor, 2..16 (default 3)\n"
+    "  --desired-tri N      C_desiredTri, triangles per node, 16..10000000 (default 4000)\n"
+    "  --simplifier NAME    meshopt (default, meshoptimizer) or openmesh (quadric decimater)\n"
+    "  --c-tex X            c_tex of the cost (eq. 1), 0..1; default: the value `hlodr\n"
+    "                       calibrate` stored ($HLODR_CALIBRATION or\n"
+    "                       ~/.config/hlodr/calibration.json), else 0.6\n"
+    "  --max-block-tri N    block size bound for mesh files (default 200000)\n"
+    "  --quiet              no progress line, no summary\n";
+
+namespace {
+
+std::string formatSeconds(double s) {
+  char buf[32];
+  if (s >= 60)
+    std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
+  else
+    std::snprintf(buf, sizeof buf, "%.0fs", s);
+  return buf;
+}
+
+}  // namespace
+
+int runBuild(const Argv& argv) {
+  auto args = Args::parse(
+      argv, {"quiet"},
+      {"output", "level-factor", "desired-tri", "simplifier", "c-tex", "max-block-tri"});
+  if (!args) {
+    std::fprintf(stderr, "hlodr build: %s\n%s", args.message().c_str(), kBuildUsage);
+    return 2;
+  }
+  if (args->positionals().empty()) {
+    std::fprintf(stderr, "hlodr build: no input given\n%s", kBuildUsage);
+    return 2;
+  }
+  const auto out = args->get("output");
+  if (!out || out->empty()) {
+    std::fprintf(stderr, "hlodr build: an output store is required (-o NAME.hlod)\n%s",
+                 kBuildUsage);
+    return 2;
+  }
+  const auto levelFactor = args->integer("level-factor", 3, 2, 16);
+  const auto desiredTri = args->integer("desired-tri", hlod::kDefaultDesiredTri, 16, 10000000);
+  const auto maxBlock =
+      args->integer("max-block-tri", hlod::kDefaultMaxBlockTriangles, 1000, 100000000);
+  for (const auto* r : {&levelFactor, &desiredTri, &maxBlock})
+    if (!*r) {
+      std::fprintf(stderr, "hlodr build: %s\n", r->message().c_str());
+      return 2;
+    }
+  hlod::BuildOptions options;
+  options.levelFactor = int(*levelFactor);
+  options.desiredTri = std::uint32_t(*desiredTri);
+  options.maxBlockTriangles = std::size_t(*maxBlock);
+  options.simplifier = args->get("simplifier", "meshopt");
+  if (options.simplifier != "meshopt" && options.simplifier != "openmesh") {
+    std::fprintf(stderr, "hlodr build: unknown simplifier '%s' (meshopt or openmesh)\n",
+                 options.simplifier.c_str());
+    return 2;
+  }
+  const bool quiet = args->has("quiet");
+  std::string cTexSource = "--c-tex";
+  if (args->has("c-tex")) {
+    const auto c = args->number("c-tex", hlod::kDefaultCTex, 0.0, 1.0);
+    if (!c) {
+      std::fprintf(stderr, "hlodr build: %s\n", c.message().c_str());
+      return 2;
+    }
+    options.cTex = *c;
+  } else if (auto calibrated = hlod::readCalibratedCTex()) {
+    options.cTex = *calibrated;
+    cTexSource = "calibration file";
+  } else {
+    options.cTex = hlod::kDefaultCTex;
+    cTexSource = "default";
+  }
+
+  const bool tty = !quiet && isatty(fileno(stderr));
+  auto progress = [&](const hlod::BuildProgress& p) {
+    if (!tty) return;
+    const double rate = p.seconds > 0 ? double(p.trianglesDone) / p.seconds : 0.0;
+    const double eta =
+        p.blocksDone ? p.seconds / double(p.blocksDone) * double(p.blockCount - p.blocksDone) : 0.0;
+    std::fprintf(stderr, "\rbuild: %zu/%zu blocks, %.2f M input triangles/s, ETA %s   ",
+                 p.blocksDone, p.blockCount, rate / 1e6, formatSeconds(eta).c_str());
+    std::fflush(stderr);
+  };
+
+  const auto& inputs = args->positionals();
+  hlod::Result<hlod::Skeleton> built = hlod::makeError("no input");
+  if (inputs.size() == 1 && hlod::isCityFolder(inputs[0])) {
+    built = hlod::buildStoreFromCity(inputs[0], *out, options, progress);
+  } else {
+    hlod::Model model;
+    for (const auto& in : inputs) {
+      if (std::filesystem::is_directory(in)) {
+        std::fprintf(stderr, "hlodr build: %s is a folder without city.json\n", in.c_str());
+        return 1;
+      }
+      if (tty) std::fprintf(stderr, "\rbuild: importing %s   ", in.c_str());
+      auto m = hlod::importModel(in);
+      if (!m) {
+        if (tty) std::fprintf(stderr, "\n");
+        std::fprintf(stderr, "hlodr build: %s\n", m.message().c_str());
+        return 1;
+      }
+      for (auto& mesh : m->meshes) model.meshes.push_back(std::move(mesh));
+    }
+    built = hlod::buildStoreFromModel(model, *out, options, progress);
+  }
+  if (tty) std::fprintf(stderr, "\n");
+  if (!built) {
+    std::fprintf(stderr, "hlodr build: %s\n", built.message().c_str());
+    return 1;
+  }
+  if (!quiet) {
+    std::uint32_t depth = 0;
+    for (const auto& n : built->nodes) depth = std::max(depth, n.level + 1);
+    std::printf(
+        "wrote %s: %zu nodes from %zu blocks, depth %u (levelFactor %d, desiredTri %u, "
+        "%s, c_tex %.3f from %s)\n",
+        out->c_str(), built->nodes.size(), built->roots.size(), depth, options.levelFactor,
+        options.desiredTri, options.simplifier.c_str(), options.cTex, cTexSource.c_str());
+  }
+  return 0;
+}
+
+}  // namespace service::cmd

@@ -1,0 +1,417 @@
+// The HLOD builder (Lakhia III-A/B) on hand-built meshes: equations 1-3, plane splits, the
+// hierarchy's shape, seams and the simplifiers' contract.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <random>
+#include <set>
+
+#include "BuildTestMeshes.h"
+#include "hlod/HlodBuilder.h"
+#include "hlod/PlaneSplit.h"
+#include "hlod/Preprocess.h"
+#include "hlod/Simplifier.h"
+
+using namespace hlod;
+
+namespace {
+
+bool finite(const glm::dvec3& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+
+struct PosKey {
+  glm::dvec3 p;
+  bool operator<(const PosKey& o) const { return std::memcmp(&p, &o.p, sizeof p) < 0; }
+  bool operator==(const PosKey& o) const { return std::memcmp(&p, &o.p, sizeof p) == 0; }
+};
+
+std::set<PosKey> verticesOnPlane(const Mesh& m, int axis, double value) {
+  std::set<PosKey> out;
+  for (std::uint32_t i : m.indices)
+    if (m.positions[i][axis] == value) out.insert({m.positions[i]});
+  return out;
+}
+
+Mesh triangles(std::vector<glm::dvec3> corners) {
+  Mesh m;
+  m.positions = std::move(corners);
+  for (std::uint32_t i = 0; i < m.positions.size(); ++i) m.indices.push_back(i);
+  return m;
+}
+
+}  // namespace
+
+TEST(BuildPreprocess, CostIsEquationOne) {
+  EXPECT_DOUBLE_EQ(nodeCost(10, 5, 0.6), 10 * 0.6 + 5 * 0.4);
+  EXPECT_DOUBLE_EQ(nodeCost(0, 7, 0.25), 7 * 0.75);
+}
+
+TEST(BuildPreprocess, TwoKnownTrianglesGiveEquationsOneToThreeExactly) {
+  // Triangle A: in the XY plane, area 2, normal +Z. Triangle B: in the XZ plane, area 1, normal -Y.
+  Mesh m = triangles({{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 0, 0}, {1, 0, 0}, {1, 0, 2}});
+  m.texCoords.assign(6, glm::vec2(0.5f));
+  m.texture = testmesh::checkerTexture(8, 8);
+  const NodeMeasures n = measureNode(m, 0.6);
+  EXPECT_EQ(n.numTri, 2u);
+  EXPECT_EQ(n.numTexTri, 2u);
+  EXPECT_DOUBLE_EQ(n.area, 3.0);
+  EXPECT_DOUBLE_EQ(n.cost, 2 * 0.6);
+  EXPECT_DOUBLE_EQ(n.staticBenefit, std::sqrt(2.0 * 3.0));
+  const glm::dvec3 expected = glm::normalize(glm::dvec3(0, -1, 2));
+  EXPECT_NEAR(n.avgNormal.x, expected.x, 1e-7);
+  EXPECT_NEAR(n.avgNormal.y, expected.y, 1e-7);
+  EXPECT_NEAR(n.avgNormal.z, expected.z, 1e-7);
+  EXPECT_EQ(n.bounds.min, glm::dvec3(0, 0, 0));
+  EXPECT_EQ(n.bounds.max, glm::dvec3(2, 2, 2));
+  // Untextured: every triangle counts with weight 1 - c_tex.
+  m.texture = nullptr;
+  EXPECT_DOUBLE_EQ(measureNode(m, 0.6).cost, 2 * 0.4);
+}
+
+TEST(BuildPreprocess, NodeWithoutAreaGetsPlusZNormalNeverNaN) {
+  const glm::vec3 plusZ(0, 0, 1);
+  EXPECT_EQ(averageNormal(Mesh{}), plusZ);
+  EXPECT_EQ(averageNormal(triangles({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}})), plusZ);  // collinear
+  EXPECT_EQ(averageNormal(triangles({{1, 1, 1}, {1, 1, 1}, {1, 1, 1}})), plusZ);  // a point
+  // Two opposite faces cancel out.
+  EXPECT_EQ(
+      averageNormal(triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {0, 1, 0}, {1, 0, 0}})),
+      plusZ);
+  const NodeMeasures n = measureNode(triangles({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}), 0.5);
+  EXPECT_EQ(n.staticBenefit, 0.0);
+  EXPECT_EQ(n.avgNormal, plusZ);
+}
+
+TEST(BuildPreprocess, ZeroAreaTrianglesAddNothingToTheNormal) {
+  Mesh m = triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 5, 5}, {6, 6, 6}, {7, 7, 7}});
+  EXPECT_EQ(averageNormal(m), glm::vec3(0, 0, 1));
+  m = triangles({{0, 0, 0}, {0, 1, 0}, {0, 0, 1}, {5, 5, 5}, {6, 6, 6}, {7, 7, 7}});
+  EXPECT_EQ(averageNormal(m), glm::vec3(1, 0, 0));
+}
+
+TEST(BuildPlaneSplit, CrossingTriangleBecomesThreeWithTwoNewVerticesOnThePlane) {
+  Mesh m = triangles({{-1, 0, 0}, {1, 0, 0}, {1, 1, 0}});
+  m.texCoords = {{0, 0}, {1, 0}, {1, 1}};
+  m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  const PlaneSplitResult r = splitByPlane(m, 0, 0.0);
+  EXPECT_EQ(r.below.triangleCount() + r.above.triangleCount(), 3u);
+  EXPECT_EQ(r.below.triangleCount(), 1u);
+  EXPECT_DOUBLE_EQ(surfaceArea(r.below) + surfaceArea(r.above), surfaceArea(m));
+  for (const auto& p : r.below.positions) EXPECT_LE(p.x, 0.0);
+  for (const auto& p : r.above.positions) EXPECT_GE(p.x, 0.0);
+  EXPECT_EQ(verticesOnPlane(r.below, 0, 0.0), verticesOnPlane(r.above, 0, 0.0));
+  EXPECT_EQ(verticesOnPlane(r.below, 0, 0.0).size(), 2u);
+  // The uv of the vertex where edge (-1,0)-(1,0) meets x=0 is interpolated halfway.
+  bool found = false;
+  for (std::size_t i = 0; i < r.above.positions.size(); ++i)
+    if (r.above.positions[i] == glm::dvec3(0, 0, 0)) {
+      found = true;
+      EXPECT_FLOAT_EQ(r.above.texCoords[i].x, 0.5f);
+      EXPECT_EQ(r.above.normals[i], glm::vec3(0, 0, 1));
+    }
+  EXPECT_TRUE(found);
+}
+
+TEST(BuildPlaneSplit, VertexOnThePlaneIsNotSplit) {
+  // Vertex 0 on the plane, the others on opposite sides: one new vertex, two triangles.
+  const Mesh m = triangles({{0, 1, 0}, {-1, 0, 0}, {1, 0, 0}});
+  const PlaneSplitResult r = splitByPlane(m, 0, 0.0);
+  EXPECT_EQ(r.below.triangleCount(), 1u);
+  EXPECT_EQ(r.above.triangleCount(), 1u);
+  EXPECT_DOUBLE_EQ(surfaceArea(r.below) + surfaceArea(r.above), surfaceArea(m));
+  // Two vertices on the plane, the third on one side: no split at all.
+  const PlaneSplitResult r2 = splitByPlane(triangles({{0, 1, 0}, {0, -1, 0}, {1, 0, 0}}), 0, 0.0);
+  EXPECT_EQ(r2.below.triangleCount(), 0u);
+  EXPECT_EQ(r2.above.triangleCount(), 1u);
+  EXPECT_EQ(r2.above.positions.size(), 3u);
+}
+
+TEST(BuildPlaneSplit, ConservesAreaOfRandomTrianglesWithoutNaNs) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Mesh m;
+  for (int t = 0; t < 3000; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      glm::dvec3 p(u(rng), u(rng), u(rng));
+      // Some vertices exactly on the plane or a hair off it (nearly parallel edges, slivers).
+      if (t % 5 == 0 && k == 0) p.x = 0.1;
+      if (t % 7 == 0 && k == 1) p.x = 0.1 + 1e-15;
+      if (t % 11 == 0) p.x = 0.1 + (k - 1) * 1e-13;
+      m.positions.push_back(p);
+      m.normals.push_back(glm::normalize(glm::vec3(p)));
+      m.texCoords.emplace_back(float(u(rng)), float(u(rng)));
+      m.indices.push_back(std::uint32_t(m.positions.size() - 1));
+    }
+  }
+  const double before = surfaceArea(m);
+  const PlaneSplitResult r = splitByPlane(m, 0, 0.1);
+  const double after = surfaceArea(r.below) + surfaceArea(r.above);
+  EXPECT_NEAR(after, before, 1e-9 * before);
+  EXPECT_GE(r.below.triangleCount() + r.above.triangleCount(), m.triangleCount());
+  for (const Mesh* h : {&r.below, &r.above}) {
+    for (const auto& p : h->positions) EXPECT_TRUE(finite(p));
+    for (const auto& n : h->normals) EXPECT_TRUE(std::isfinite(n.x + n.y + n.z));
+    for (const auto& t : h->texCoords) EXPECT_TRUE(std::isfinite(t.x + t.y));
+  }
+  for (const auto& p : r.below.positions) EXPECT_LE(p.x, 0.1);
+  for (const auto& p : r.above.positions) EXPECT_GE(p.x, 0.1);
+}
+
+TEST(BuildPlaneSplit, SharedEdgeGivesOneBitIdenticalVertexOnBothSides) {
+  const Mesh grid = testmesh::wavyGrid(20);
+  const double plane = 3.3333333333333;
+  const PlaneSplitResult r = splitByPlane(grid, 0, plane);
+  EXPECT_EQ(verticesOnPlane(r.below, 0, plane), verticesOnPlane(r.above, 0, plane));
+  EXPECT_NEAR(surfaceArea(r.below) + surfaceArea(r.above), surfaceArea(grid),
+              1e-9 * surfaceArea(grid));
+  // Welding each half finds no duplicate cut vertices (each edge cut once).
+  EXPECT_EQ(weldVertices(r.below).positions.size(), r.below.positions.size());
+}
+
+class BuildHierarchy : public testing::TestWithParam<const char*> {};
+
+TEST_P(BuildHierarchy, ChildrenPartitionTheirParentsRegion) {
+  auto simplifier = makeSimplifier(GetParam());
+  ASSERT_TRUE(simplifier);
+  BuildOptions o;
+  o.desiredTri = 200;
+  const auto nodes = buildBlockHierarchy(testmesh::wavyGrid(60), o, **simplifier);
+  ASSERT_GT(nodes.size(), 4u);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const BlockNode& n = nodes[i];
+    if (n.info.childCount == 0) continue;
+    ASSERT_EQ(n.cutPlanes.size(), 2u);
+    const int a = n.cutAxis;
+    // Each child's box lies in the parent's box and within its slab along the cut axis.
+    std::vector<double> walls = {n.info.bounds.min[a], n.cutPlanes[0], n.cutPlanes[1],
+                                 n.info.bounds.max[a]};
+    for (std::uint32_t c = 0; c < n.info.childCount; ++c) {
+      const BlockNode& child = nodes[n.info.firstChild + c];
+      EXPECT_EQ(child.info.parent, i);
+      EXPECT_EQ(child.info.level, n.info.level + 1);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_GE(child.info.bounds.min[k], n.info.bounds.min[k]);
+        EXPECT_LE(child.info.bounds.max[k], n.info.bounds.max[k]);
+      }
+      // Find the child's slab: the one its box centre lies in.
+      const double mid = child.info.bounds.centre()[a];
+      int slab = 0;
+      while (slab < 2 && mid > walls[slab + 1]) ++slab;
+      EXPECT_GE(child.info.bounds.min[a], walls[slab]);
+      EXPECT_LE(child.info.bounds.max[a], walls[slab + 1]);
+    }
+  }
+}
+
+TEST_P(BuildHierarchy, TriangleCountsFollowTheSimplificationFactors) {
+  auto simplifier = makeSimplifier(GetParam());
+  ASSERT_TRUE(simplifier);
+  BuildOptions o;
+  o.desiredTri = 500;
+  const Mesh block = testmesh::sphere(120, 160);  // closed: only the cuts are locked
+  const auto nodes = buildBlockHierarchy(block, o, **simplifier);
+  ASSERT_FALSE(nodes.empty());
+  EXPECT_NEAR(nodes[0].simplification, double(block.triangleCount()) / 500.0, 1e-9);
+  // hlod_0 has about desiredTri triangles.
+  EXPECT_LE(nodes[0].info.childCount, 3u);
+  EXPECT_NEAR(double(nodes[0].mesh.triangleCount()), 500.0, 0.1 * 500.0);
+  // Inner nodes: near desiredTri (locked cut borders keep some more).
+  std::map<std::uint32_t, std::size_t> perLevel;
+  double innerSum = 0;
+  int inner = 0;
+  std::size_t leafSum = 0;
+  for (const auto& n : nodes) {
+    perLevel[n.info.level] += n.mesh.triangleCount();
+    if (n.info.childCount) {
+      innerSum += double(n.mesh.triangleCount());
+      ++inner;
+      EXPECT_GT(n.simplification, 1.0);
+    } else {
+      leafSum += n.mesh.triangleCount();
+      EXPECT_LE(n.simplification, 1.0);
+      EXPECT_EQ(n.info.geometricError, 0.0);
+    }
+  }
+  ASSERT_GT(inner, 1);
+  EXPECT_LT(innerSum / inner, 2.0 * 500);
+  EXPECT_GT(innerSum / inner, 0.5 * 500);
+  // Totals per level grow toward the leaves.
+  for (auto it = std::next(perLevel.begin()); it != perLevel.end(); ++it)
+    EXPECT_GE(it->second, std::prev(it)->second);
+  // The leaves hold exactly the original triangles plus those the cuts created: replaying the
+  // recorded cuts on the original block gives the same count and area.
+  std::vector<Mesh> replay = {weldVertices(block)};
+  std::size_t replayLeaves = 0;
+  double replayArea = 0;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i].info.childCount == 0) {
+      replayLeaves += replay[i].triangleCount();
+      replayArea += surfaceArea(replay[i]);
+      continue;
+    }
+    Mesh rest = replay[i];
+    std::vector<Mesh> slabs;
+    for (double plane : nodes[i].cutPlanes) {
+      auto r = splitByPlane(rest, nodes[i].cutAxis, plane);
+      slabs.push_back(std::move(r.below));
+      rest = std::move(r.above);
+    }
+    slabs.push_back(std::move(rest));
+    for (auto& s : slabs)
+      if (s.triangleCount()) replay.push_back(std::move(s));
+  }
+  EXPECT_EQ(leafSum, replayLeaves);
+  EXPECT_GE(leafSum, block.triangleCount());
+  EXPECT_NEAR(replayArea, surfaceArea(block), 1e-9 * surfaceArea(block));
+}
+
+TEST_P(BuildHierarchy, GeometricErrorIsMonotoneAndZeroAtLeaves) {
+  auto simplifier = makeSimplifier(GetParam());
+  ASSERT_TRUE(simplifier);
+  BuildOptions o;
+  o.desiredTri = 300;
+  const auto nodes = buildBlockHierarchy(testmesh::sphere(60, 80, 5.0), o, **simplifier);
+  ASSERT_GT(nodes.size(), 4u);
+  EXPECT_GT(nodes[0].info.geometricError, 0.0);
+  // meshopt's error is a distance; OpenMesh's (sqrt of a summed quadric) is a loose upper bound.
+  if (std::string(GetParam()) == "meshopt") EXPECT_LT(nodes[0].info.geometricError, 5.0);
+  for (std::size_t i = 1; i < nodes.size(); ++i)
+    EXPECT_GE(nodes[nodes[i].info.parent].info.geometricError, nodes[i].info.geometricError);
+}
+
+TEST_P(BuildHierarchy, SeamsMatchAtTheSameLevelAndAcrossLevels) {
+  auto simplifier = makeSimplifier(GetParam());
+  ASSERT_TRUE(simplifier);
+  BuildOptions o;
+  o.desiredTri = 150;
+  const auto nodes = buildBlockHierarchy(testmesh::wavyGrid(80), o, **simplifier);
+  ASSERT_GT(nodes.size(), 13u);
+  int checkedSame = 0, checkedAcross = 0;
+  for (const auto& parent : nodes) {
+    for (std::uint32_t c = 0; c + 1 < parent.info.childCount; ++c) {
+      const BlockNode& left = nodes[parent.info.firstChild + c];
+      const BlockNode& right = nodes[parent.info.firstChild + c + 1];
+      const int a = parent.cutAxis;
+      const double plane = parent.cutPlanes[c];
+      if (right.info.bounds.min[a] != plane && left.info.bounds.max[a] != plane) continue;
+      // Same level: the vertices on the shared plane are the same, bit for bit, both ways.
+      const auto l = verticesOnPlane(left.mesh, a, plane),
+                 r = verticesOnPlane(right.mesh, a, plane);
+      EXPECT_EQ(l, r);
+      ++checkedSame;
+      // Across levels: the coarser node's seam vertices all appear in the finer neighbours
+      // (its children), which may add more on the seam's segments.
+      if (right.info.childCount) {
+        std::set<PosKey> fine;
+        for (std::uint32_t k = 0; k < right.info.childCount; ++k) {
+          const auto v = verticesOnPlane(nodes[right.info.firstChild + k].mesh, a, plane);
+          fine.insert(v.begin(), v.end());
+        }
+        for (const auto& p : l) EXPECT_TRUE(fine.count(p)) << "seam vertex missing one level down";
+        ++checkedAcross;
+      }
+    }
+  }
+  EXPECT_GT(checkedSame, 3);
+  EXPECT_GT(checkedAcross, 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothSimplifiers, BuildHierarchy, testing::Values("meshopt", "openmesh"));
+
+class BuildSimplifier : public testing::TestWithParam<const char*> {};
+
+TEST_P(BuildSimplifier, LocksEveryBorderVertex) {
+  auto simplifier = makeSimplifier(GetParam());
+  ASSERT_TRUE(simplifier);
+  const Mesh grid = weldVertices(testmesh::wavyGrid(40));
+  const SimplifiedMesh s = (*simplifier)->simplify(grid, 50);
+  EXPECT_LT(s.mesh.triangleCount(), grid.triangleCount() / 4);
+  std::set<PosKey> kept;
+  for (const auto& p : s.mesh.positions) kept.insert({p});
+  int border = 0;
+  for (const auto& p : grid.positions) {
+    if (p.x == 0.0 || p.y == 0.0 || p.x == 10.0 || p.y == 10.0) {
+      ++border;
+      EXPECT_TRUE(kept.count({p})) << p.x << "," << p.y;
+    }
+  }
+  EXPECT_EQ(border, 160);
+}
+
+TEST_P(BuildSimplifier, KeepsTextureCoordinatesOfTheVerticesItKeeps) {
+  auto simplifier = makeSimplifier(GetParam());
+  ASSERT_TRUE(simplifier);
+  const Mesh grid = weldVertices(testmesh::wavyGrid(30));
+  const SimplifiedMesh s = (*simplifier)->simplify(grid, 200);
+  ASSERT_EQ(s.mesh.texCoords.size(), s.mesh.positions.size());
+  std::map<PosKey, glm::vec2> uvOf;
+  for (std::size_t i = 0; i < grid.positions.size(); ++i)
+    uvOf[{grid.positions[i]}] = grid.texCoords[i];
+  for (std::size_t i = 0; i < s.mesh.positions.size(); ++i) {
+    auto it = uvOf.find({s.mesh.positions[i]});
+    ASSERT_NE(it, uvOf.end());
+    EXPECT_EQ(it->second, s.mesh.texCoords[i]);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BothSimplifiers, BuildSimplifier, testing::Values("meshopt", "openmesh"));
+
+TEST(BuildSimplifierFactory, RejectsUnknownNames) {
+  auto s = makeSimplifier("qslim");
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.message().find("meshopt"), std::string::npos);
+}
+
+TEST(BuildBlocks, MeshIsCutIntoBoundedBlocksGroupedByMaterial) {
+  Model model;
+  model.meshes.push_back(testmesh::wavyGrid(50));  // 5000 triangles
+  Mesh other = testmesh::wavyGrid(10, 10.0, glm::dvec3(0, 0, 5));
+  other.texture = testmesh::checkerTexture(16, 16);
+  model.meshes.push_back(other);
+  const auto blocks = cutIntoBlocks(model, 1000);
+  std::size_t total = 0;
+  double area = 0;
+  int textured = 0;
+  for (const auto& b : blocks) {
+    EXPECT_LE(b.triangleCount(), 1000u);
+    total += b.triangleCount();
+    area += surfaceArea(b);
+    if (b.texture) {
+      ++textured;
+      EXPECT_EQ(b.triangleCount(), 200u);  // the textured mesh stays on its own
+    }
+  }
+  EXPECT_EQ(textured, 1);
+  EXPECT_GE(total, model.triangleCount());
+  const double expected = surfaceArea(model.meshes[0]) + surfaceArea(model.meshes[1]);
+  EXPECT_NEAR(area, expected, 1e-9 * expected);
+}
+
+TEST(BuildTexture, CropsToTheUsedRectangleAndKeepsAtLeastEightPixels) {
+  const auto tex = testmesh::checkerTexture(64, 64);
+  std::vector<glm::vec2> uv = {{0.25f, 0.25f}, {0.5f, 0.25f}, {0.5f, 0.5f}};
+  auto out = prepareNodeTexture(*tex, uv, 1.0);
+  ASSERT_TRUE(out);
+  EXPECT_EQ(out->width, 16 + 2);  // 16 texels and a margin of one each side
+  EXPECT_NEAR(uv[0].x, 1.0f / 18.0f, 1e-6);
+  EXPECT_NEAR(uv[1].x, 17.0f / 18.0f, 1e-6);
+  std::vector<glm::vec2> all = {{0, 0}, {1, 0}, {1, 1}};
+  auto small = prepareNodeTexture(*tex, all, 1e6);
+  ASSERT_TRUE(small);
+  EXPECT_EQ(small->width, 8);
+  EXPECT_EQ(small->height, 8);
+  auto half = prepareNodeTexture(*tex, all, 4.0);
+  EXPECT_EQ(half->width, 32);
+}
+
+TEST(BuildTexture, BoxFilterAveragesPixels) {
+  Image img;
+  img.width = 2;
+  img.height = 2;
+  img.pixels = {0, 0, 0, 255, 100, 0, 0, 255, 0, 200, 0, 255, 100, 200, 40, 255};
+  const Image out = resizeImage(img, 1, 1);
+  EXPECT_EQ(out.pixels, (std::vector<std::uint8_t>{50, 100, 10, 255}));
+}

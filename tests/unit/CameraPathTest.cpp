@@ -1,0 +1,185 @@
+#include <cmath>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "RuntimeTestScene.h"
+#include "hlod/CameraPath.h"
+
+namespace hlod {
+namespace {
+
+std::vector<CameraKeyframe> threeKeys() {
+  std::vector<CameraKeyframe> k(3);
+  k[0] = {0.0, {0, 0, 2}, {0, 10, 2}, {0, 0, 1}, 60.0};
+  k[1] = {1.0, {5, 3, 2}, {5, 13, 0}, {0, 0, 1}, 50.0};
+  k[2] = {3.0, {8, 10, 6}, {0, 0, 0}, {0, 0, 1}, 40.0};
+  return k;
+}
+
+TEST(CameraPath, PassesThroughEveryKeyframe) {
+  auto path = CameraPath::fromKeyframes(threeKeys());
+  ASSERT_TRUE(path.ok()) << path.message();
+  for (const CameraKeyframe& k : threeKeys()) {
+    const CameraSample s = path->sample(k.time);
+    EXPECT_NEAR(glm::length(s.camera.position - k.position), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(s.camera.target - k.target), 0.0, 1e-12);
+    EXPECT_NEAR(s.camera.fovY, k.fovY, 1e-12);
+  }
+  EXPECT_DOUBLE_EQ(path->sample(1.5).camera.fovY, 47.5);  // fov is linear
+}
+
+TEST(CameraPath, PositionAndVelocityAreContinuousAcrossKeyframes) {
+  auto path = CameraPath::fromKeyframes(threeKeys());
+  ASSERT_TRUE(path.ok());
+  const double eps = 1e-7;
+  const CameraSample before = path->sample(1.0 - eps), after = path->sample(1.0 + eps);
+  EXPECT_LT(glm::length(before.camera.position - after.camera.position), 1e-5);
+  EXPECT_LT(glm::length(before.velocity - after.velocity), 1e-4);  // C1
+  // The velocity is the derivative of the sampled position.
+  const double t = 2.2, h = 1e-5;
+  const glm::dvec3 numeric =
+      (path->sample(t + h).camera.position - path->sample(t - h).camera.position) / (2 * h);
+  EXPECT_LT(glm::length(numeric - path->sample(t).velocity), 1e-5);
+}
+
+TEST(CameraPath, SampleAtGivesFramesAtTheFrameRateAndClampsOutsideTheRange) {
+  auto path = CameraPath::fromKeyframes(threeKeys());
+  ASSERT_TRUE(path.ok());
+  const auto frames = path->sampleAt(30.0);
+  ASSERT_EQ(frames.size(), 91u);
+  EXPECT_DOUBLE_EQ(frames[30].time, 1.0);
+  EXPECT_NEAR(frames.back().time, 3.0, 1e-12);
+  EXPECT_EQ(path->sample(-5.0).camera.position, threeKeys()[0].position);
+  EXPECT_EQ(path->sample(99.0).camera.position, threeKeys()[2].position);
+  EXPECT_TRUE(path->sampleAt(0.0).empty());
+}
+
+TEST(CameraPath, WritesAndReadsBackTheSameKeyframes) {
+  auto path = CameraPath::fromKeyframes(threeKeys());
+  ASSERT_TRUE(path.ok());
+  const auto file = std::filesystem::temp_directory_path() / "hlodr_camera_path_test.json";
+  ASSERT_TRUE(path->write(file.string()).ok());
+  auto back = CameraPath::read(file.string());
+  ASSERT_TRUE(back.ok()) << back.message();
+  ASSERT_EQ(back->keyframes().size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(back->keyframes()[i].position, threeKeys()[i].position);
+    EXPECT_EQ(back->keyframes()[i].fovY, threeKeys()[i].fovY);
+  }
+  std::filesystem::remove(file);
+}
+
+TEST(CameraPath, MalformedInputGivesClearErrors) {
+  struct Case {
+    const char* json;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"{\"keyframes\": [", "malformed JSON"},
+      {"{\"frames\": []}", "no \"keyframes\""},
+      {"{\"keyframes\": [{\"time\":0,\"position\":[0,0,0],\"target\":[1,0,0]}]}",
+       "at least 2 keyframes"},
+      {"[{\"time\":0,\"position\":[0,0,0],\"target\":[1,0,0]},"
+       "{\"time\":0,\"position\":[1,0,0],\"target\":[2,0,0]}]",
+       "strictly increasing"},
+      {"[{\"time\":1,\"position\":[0,0,0],\"target\":[1,0,0]},"
+       "{\"time\":0.5,\"position\":[1,0,0],\"target\":[2,0,0]}]",
+       "strictly increasing"},
+      {"[{\"time\":0,\"position\":[0,0],\"target\":[1,0,0]},"
+       "{\"time\":1,\"position\":[1,0,0],\"target\":[2,0,0]}]",
+       "\"position\" must be an array of 3"},
+      {"[{\"time\":0,\"position\":[0,0,0]},{\"time\":1,\"position\":[1,0,0],\"target\":[2,0,0]}]",
+       "\"target\" is missing"},
+      {"[{\"time\":\"a\",\"position\":[0,0,0],\"target\":[1,0,0]}]", "\"time\" must be a number"},
+      {"[{\"time\":0,\"position\":[0,0,0],\"target\":[1,0,0],\"fov\":200},"
+       "{\"time\":1,\"position\":[1,0,0],\"target\":[2,0,0]}]",
+       "fov must be in"},
+      {"[{\"time\":0,\"position\":[0,0,0],\"target\":[0,0,0]},"
+       "{\"time\":1,\"position\":[1,0,0],\"target\":[2,0,0]}]",
+       "target equals position"},
+      {"42", "must be an array"},
+  };
+  for (const Case& c : cases) {
+    auto p = CameraPath::parse(c.json);
+    ASSERT_FALSE(p.ok()) << c.json;
+    EXPECT_NE(p.message().find(c.expect), std::string::npos) << p.message();
+  }
+  EXPECT_FALSE(CameraPath::read("/nonexistent/path.json").ok());
+}
+
+TEST(CameraPath, NanKeyframesAreRejected) {
+  auto keys = threeKeys();
+  keys[1].position.x = std::nan("");
+  auto p = CameraPath::fromKeyframes(keys);
+  ASSERT_FALSE(p.ok());
+  EXPECT_NE(p.message().find("finite"), std::string::npos);
+}
+
+// Distance from a point to the nearest block box (0 inside one).
+double clearance(const Skeleton& sk, const glm::dvec3& p) {
+  double best = 1e300;
+  for (std::uint32_t r : sk.roots) {
+    best = std::min(best, distanceToBox(p, sk.nodes[r].bounds));
+  }
+  return best;
+}
+
+TEST(CameraPathGenerators, WalkFlyStartsInAStreetAtEyeHeightAndEndsAboveTheModel) {
+  test::SyntheticCity c;
+  c.blocksX = c.blocksY = 6;
+  const Skeleton sk = test::makeSyntheticCity(c);
+  auto path = makeWalkFlyPath(sk);
+  ASSERT_TRUE(path.ok()) << path.message();
+  EXPECT_GE(path->duration(), 20.0);
+  EXPECT_LE(path->duration(), 40.0);
+  for (double t = 0.0; t <= 15.0; t += 0.5) {
+    const CameraSample s = path->sample(t);
+    // Exactly at eye height for 10 s; the spline starts the climb during the last walk segment.
+    if (t <= 10.0) {
+      EXPECT_NEAR(s.camera.position.z, 1.7, 1e-6);
+      EXPECT_LT(glm::length(s.velocity), 3.0);
+    } else {
+      EXPECT_LT(s.camera.position.z, 4.0);
+    }
+    EXPECT_GT(clearance(sk, s.camera.position), 1.0) << "walk enters a block at t=" << t;
+  }
+  const CameraSample end = path->sample(path->endTime());
+  EXPECT_GT(end.camera.position.z, c.height * 2);
+  EXPECT_LT(end.camera.forward().z, -0.3);  // looking down at the model
+}
+
+TEST(CameraPathGenerators, DriveFollowsStreetsAtCarSpeed) {
+  test::SyntheticCity c;
+  c.blocksX = c.blocksY = 6;
+  const Skeleton sk = test::makeSyntheticCity(c);
+  auto path = makeDrivePath(sk);
+  ASSERT_TRUE(path.ok()) << path.message();
+  EXPECT_GE(path->duration(), 20.0);
+  EXPECT_LE(path->duration(), 40.0);
+  double sumSpeed = 0.0;
+  int n = 0;
+  for (const CameraSample& s : path->sampleAt(10.0)) {
+    EXPECT_NEAR(s.camera.position.z, 1.5, 1e-6);
+    EXPECT_GT(clearance(sk, s.camera.position), 1.0) << "drive enters a block at t=" << s.time;
+    sumSpeed += glm::length(s.velocity);
+    ++n;
+  }
+  EXPECT_GT(sumSpeed / n, 14.0);
+  EXPECT_LT(sumSpeed / n, 21.0);
+}
+
+TEST(CameraPathGenerators, OrbitKeepsTheWholeModelInView) {
+  const Skeleton sk = test::makeSyntheticCity({});
+  auto path = makeCameraPath("orbit", sk);
+  ASSERT_TRUE(path.ok());
+  for (const CameraSample& s : path->sampleAt(2.0)) {
+    const Frustum f = s.camera.frustum();
+    for (std::uint32_t r : sk.roots) EXPECT_TRUE(f.intersects(sk.nodes[r].bounds));
+  }
+  EXPECT_FALSE(makeCameraPath("spiral", sk).ok());
+  EXPECT_FALSE(makeOrbitPath(Skeleton{}).ok());
+}
+
+}  // namespace
+}  // namespace hlod

@@ -1,0 +1,255 @@
+// The node store: round trip, and corrupted or truncated files rejected with an Error.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <thread>
+
+#include "BuildTestMeshes.h"
+#include "hlod/HlodBuilder.h"
+#include "hlod/NodeStore.h"
+
+using namespace hlod;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path tempDir(const std::string& name) {
+  const fs::path p =
+      fs::temp_directory_path() / ("hlodr-nodestore-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+std::vector<char> readFile(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeFile(const fs::path& p, const std::vector<char>& bytes, std::size_t n) {
+  std::ofstream out(p, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), std::streamsize(n));
+}
+
+Model smallModel() {
+  Model m;
+  Mesh textured = testmesh::wavyGrid(24, 10.0, glm::dvec3(6.0e6, 0, 0));  // far from the origin
+  textured.texture = testmesh::checkerTexture(32, 32);
+  m.meshes.push_back(textured);
+  m.meshes.push_back(testmesh::wavyGrid(12, 5.0, glm::dvec3(6.0e6, 20, 0)));
+  return m;
+}
+
+// Every payload of the store decodes; returns the number of nodes that failed.
+int failingNodes(const NodeStore& store) {
+  int failed = 0;
+  for (std::uint32_t i = 0; i < store.skeleton().nodes.size(); ++i)
+    if (!store.loadNode(i)) ++failed;
+  return failed;
+}
+
+class NodeStoreFixture : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = tempDir(testing::UnitTest::GetInstance()->current_test_info()->name());
+    store_ = dir_ / "model.hlod";
+    BuildOptions o;
+    o.desiredTri = 150;
+    o.maxBlockTriangles = 800;
+    auto built = buildStoreFromModel(smallModel(), store_, o);
+    ASSERT_TRUE(built) << built.message();
+    skeleton_ = *built;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_, store_;
+  Skeleton skeleton_;
+};
+
+}  // namespace
+
+TEST_F(NodeStoreFixture, RoundTripKeepsEveryNodeField) {
+  auto store = NodeStore::open(store_);
+  ASSERT_TRUE(store) << store.message();
+  const Skeleton& s = (*store)->skeleton();
+  ASSERT_EQ(s.nodes.size(), skeleton_.nodes.size());
+  EXPECT_EQ(s.roots, skeleton_.roots);
+  EXPECT_GT(s.roots.size(), 1u);
+  EXPECT_EQ(s.params.simplifier, "meshopt");
+  EXPECT_EQ(s.params.desiredTri, 150u);
+  EXPECT_EQ((*store)->facts().blockCount, s.roots.size());
+  EXPECT_EQ((*store)->facts().inputTriangles, smallModel().triangleCount());
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const NodeInfo &a = s.nodes[i], &b = skeleton_.nodes[i];
+    EXPECT_EQ(a.parent, b.parent);
+    EXPECT_EQ(a.firstChild, b.firstChild);
+    EXPECT_EQ(a.childCount, b.childCount);
+    EXPECT_EQ(a.bounds.min, b.bounds.min);
+    EXPECT_EQ(a.bounds.max, b.bounds.max);
+    EXPECT_EQ(a.centre, b.centre);
+    EXPECT_EQ(a.cost, b.cost);
+    EXPECT_EQ(a.staticBenefit, b.staticBenefit);
+    EXPECT_EQ(a.avgNormal, b.avgNormal);
+    EXPECT_EQ(a.geometricError, b.geometricError);
+    EXPECT_EQ(a.payloadChecksum, b.payloadChecksum);
+    auto mesh = (*store)->loadNode(std::uint32_t(i));
+    ASSERT_TRUE(mesh) << mesh.message();
+    EXPECT_EQ(mesh->triangleCount(), a.numTri);
+    EXPECT_EQ(mesh->centre, a.centre);
+    EXPECT_EQ(bool(mesh->texture), a.numTexTri > 0);
+    // Float positions relative to the centre stay inside the node's box (to float precision).
+    for (const auto& p : mesh->positions) {
+      const glm::dvec3 w = a.centre + glm::dvec3(p);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_GE(w[k], a.bounds.min[k] - 1e-5);
+        EXPECT_LE(w[k], a.bounds.max[k] + 1e-5);
+      }
+    }
+  }
+}
+
+TEST_F(NodeStoreFixture, EveryFlippedSkeletonByteIsAnError) {
+  const auto bytes = readFile(store_ / "skeleton.bin");
+  ASSERT_GT(bytes.size(), 100u);
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    auto bad = bytes;
+    bad[i] = char(bad[i] ^ 0x5a);
+    writeFile(store_ / "skeleton.bin", bad, bad.size());
+    auto store = NodeStore::open(store_);
+    EXPECT_FALSE(store) << "flip at " << i;
+    if (!store) {
+      EXPECT_FALSE(store.message().empty());
+    }
+  }
+}
+
+TEST_F(NodeStoreFixture, SkeletonCutAnywhereIsAnError) {
+  const auto bytes = readFile(store_ / "skeleton.bin");
+  for (std::size_t n = 0; n < bytes.size(); ++n) {
+    writeFile(store_ / "skeleton.bin", bytes, n);
+    EXPECT_FALSE(NodeStore::open(store_)) << "cut at " << n;
+  }
+}
+
+TEST_F(NodeStoreFixture, FlippedPayloadBytesAreCaughtByTheChecksum) {
+  const auto bytes = readFile(store_ / "payload.bin");
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<std::size_t> pos(0, bytes.size() - 1);
+  for (int k = 0; k < 300; ++k) {
+    auto bad = bytes;
+    const std::size_t i = k < 100 ? std::size_t(k) * bytes.size() / 100 : pos(rng);
+    bad[i] = char(bad[i] ^ 0x01);
+    writeFile(store_ / "payload.bin", bad, bad.size());
+    auto store = NodeStore::open(store_);
+    ASSERT_TRUE(store);
+    EXPECT_EQ(failingNodes(**store), 1) << "flip at " << i;
+  }
+}
+
+TEST_F(NodeStoreFixture, TruncatedPayloadFileIsAnError) {
+  const auto bytes = readFile(store_ / "payload.bin");
+  for (std::size_t n : {std::size_t(0), std::size_t(1), bytes.size() / 2, bytes.size() - 1}) {
+    writeFile(store_ / "payload.bin", bytes, n);
+    auto store = NodeStore::open(store_);
+    ASSERT_FALSE(store);
+    EXPECT_NE(store.message().find("payload.bin"), std::string::npos);
+  }
+  fs::remove(store_ / "payload.bin");
+  EXPECT_FALSE(NodeStore::open(store_));
+}
+
+TEST(NodeStorePayload, ForgedPayloadsWithValidChecksumsAreRejectedOrDecodedSafely) {
+  LocalMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  m.texCoords = {{0, 0}, {1, 0}, {0, 1}};
+  m.indices = {0, 1, 2};
+  m.texture = testmesh::checkerTexture(8, 8);
+  const auto good = encodePayload(m);
+  auto ok = decodePayloadBytes(good, crc32(good), glm::dvec3(1, 2, 3));
+  ASSERT_TRUE(ok) << ok.message();
+  EXPECT_EQ(ok->indices, m.indices);
+  EXPECT_EQ(ok->texture->pixels, m.texture->pixels);
+  // Counts that disagree with the size, indices past the vertex count, NaNs: all Errors, and
+  // no out-of-bounds read (run under AddressSanitizer).
+  std::mt19937 rng(11);
+  int rejected = 0;
+  for (std::size_t i = 0; i < good.size(); ++i) {
+    for (int bit : {0, 3, 7}) {
+      auto bad = good;
+      bad[i] = std::byte(std::uint8_t(bad[i]) ^ (1u << bit));
+      auto r = decodePayloadBytes(bad, crc32(bad), glm::dvec3(0));
+      if (!r) ++rejected;
+    }
+  }
+  EXPECT_GT(rejected, 100);
+  auto idx = good;
+  const std::size_t indexAt = good.size() - 8 * 8 * 4 - 12;  // the three indices
+  idx[indexAt] = std::byte(7);
+  EXPECT_FALSE(decodePayloadBytes(idx, crc32(idx), glm::dvec3(0)));
+  for (std::size_t n = 0; n < good.size(); ++n) {
+    std::span<const std::byte> cut(good.data(), n);
+    EXPECT_FALSE(decodePayloadBytes(cut, crc32(cut), glm::dvec3(0)));
+  }
+}
+
+TEST_F(NodeStoreFixture, ChunkReadsAreBoundsCheckedAndThreadSafe) {
+  auto store = NodeStore::open(store_);
+  ASSERT_TRUE(store);
+  const NodeStore& s = **store;
+  const auto size = s.skeleton().nodes[0].payloadSize;
+  std::vector<std::byte> buf(16);
+  EXPECT_FALSE(s.readPayloadChunk(0, size - 8, buf));
+  EXPECT_FALSE(s.readPayloadChunk(0, ~std::uint64_t(0) - 4, buf));
+  EXPECT_FALSE(s.readPayloadChunk(std::uint32_t(s.skeleton().nodes.size()), 0, buf));
+  EXPECT_TRUE(s.readPayloadChunk(0, size - 16, buf));
+  // Chunked reads from several threads give the same bytes as one read.
+  std::vector<std::thread> threads;
+  std::atomic<int> failures{0};
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&] {
+      for (std::uint32_t n = 0; n < s.skeleton().nodes.size(); ++n) {
+        const auto total = s.skeleton().nodes[n].payloadSize;
+        std::vector<std::byte> whole(total);
+        for (std::uint64_t off = 0; off < total; off += 100) {
+          const auto len = std::min<std::uint64_t>(100, total - off);
+          if (!s.readPayloadChunk(n, off, std::span(whole).subspan(off, len))) ++failures;
+        }
+        if (!s.decodePayload(n, whole)) ++failures;
+      }
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(failures.load(), 0);
+}
+
+TEST(NodeStoreWriter, UnfinishedBuildLeavesNoStore) {
+  const fs::path dir = tempDir("unfinished");
+  {
+    auto w = NodeStoreWriter::create(dir / "x.hlod");
+    ASSERT_TRUE(w);
+    NodeInfo n;
+    ASSERT_TRUE((*w)->appendPayload(LocalMesh{}, n));
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+  fs::remove_all(dir);
+}
+
+TEST(NodeStoreWriter, RefusesToReplaceAFolderThatIsNotAStore) {
+  const fs::path dir = tempDir("notastore");
+  fs::create_directories(dir / "precious");
+  std::ofstream(dir / "precious" / "keep.txt") << "x";
+  auto w = NodeStoreWriter::create(dir / "precious");
+  ASSERT_TRUE(w);
+  EXPECT_FALSE((*w)->finish(Skeleton{}, StoreFacts{}));
+  EXPECT_TRUE(fs::exists(dir / "precious" / "keep.txt"));
+  fs::remove_all(dir);
+}
+
+TEST(NodeStoreOpen, MissingStoreIsAnError) {
+  auto s = NodeStore::open("/nonexistent/none.hlod");
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.message().find("not a node store"), std::string::npos);
+}
