@@ -1,0 +1,144 @@
+// End-to-end tests of the `hlodr` executable as a user runs it: exit codes, messages, outputs.
+#include <sys/wait.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "GlTestScene.h"
+#include "hlod/Import.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Run hlodr(const std::string& args, const std::string& env = "") {
+  Run r;
+  const std::string cmd = env + " " + HLODR_BINARY + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+class HlodrCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = fs::temp_directory_path() /
+          ("hlodr_cli_" + std::to_string(::getpid()) + "_" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir);
+    // A small OFF model: a tetrahedron.
+    std::ofstream off(dir / "tetra.off");
+    off << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  std::string path(const std::string& name) const { return (dir / name).string(); }
+  fs::path dir;
+};
+
+}  // namespace
+
+TEST_F(HlodrCli, RendersAMeshFileAndPrintsTimesAndTriangles) {
+  const auto r = hlodr("render " + path("tetra.off") + " -o " + path("t.png") + " --size 64x48");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("4 triangles"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("GPU"), std::string::npos);
+  EXPECT_NE(r.output.find("GL backend"), std::string::npos);
+  auto img = hlod::loadImage(path("t.png"));
+  ASSERT_TRUE(img) << img.message();
+  EXPECT_EQ(img->width, 64);
+  EXPECT_EQ(img->height, 48);
+}
+
+TEST_F(HlodrCli, EglAndOsMesaBackendsRenderTheSameFrame) {
+  const std::string args = "render " + path("tetra.off") + " --size 96x64 -o ";
+  const auto a = hlodr(args + path("egl.png"), "HLODR_GL_BACKEND=egl");
+  ASSERT_EQ(a.status, 0) << a.output;
+  EXPECT_NE(a.output.find("GL backend egl"), std::string::npos) << a.output;
+  const auto b = hlodr(args + path("osmesa.png"), "HLODR_GL_BACKEND=osmesa");
+  ASSERT_EQ(b.status, 0) << b.output;
+  EXPECT_NE(b.output.find("GL backend osmesa"), std::string::npos) << b.output;
+  auto ia = hlod::loadImage(path("egl.png"));
+  auto ib = hlod::loadImage(path("osmesa.png"));
+  ASSERT_TRUE(ia && ib);
+  // Stated tolerance: mean channel difference under 2/255 and under 2% of pixels differing.
+  const auto d = gltest::compare(*ia, *ib);
+  EXPECT_LT(d.meanAbs, 2.0);
+  EXPECT_LT(d.differingShare, 0.02);
+}
+
+TEST_F(HlodrCli, WritesJpegAndExrByExtension) {
+  for (const char* name : {"t.jpg", "t.exr"}) {
+    const auto r = hlodr("render " + path("tetra.off") + " --size 32x32 -o " + path(name));
+    ASSERT_EQ(r.status, 0) << r.output;
+    auto img = hlod::loadImage(path(name));
+    ASSERT_TRUE(img) << name << ": " << img.message();
+    EXPECT_EQ(img->width, 32);
+  }
+}
+
+TEST_F(HlodrCli, ReportsAMissingModelClearly) {
+  const auto r = hlodr("render " + path("nope.obj") + " -o " + path("x.png"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("nope.obj"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+TEST_F(HlodrCli, ReportsACorruptMeshWithoutCrashing) {
+  std::ofstream(dir / "bad.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 nan 0\n3 0 1 7\n";
+  const auto r = hlodr("render " + path("bad.off") + " -o " + path("x.png"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("bad.off"), std::string::npos) << r.output;
+}
+
+TEST_F(HlodrCli, RejectsBadOptionsWithUsageExitCode) {
+  EXPECT_EQ(hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --size 9000x10")
+                .status,
+            1);
+  EXPECT_EQ(hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --size big").status,
+            2);
+  EXPECT_EQ(hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --camera 1,2,3")
+                .status,
+            2);
+  EXPECT_EQ(hlodr("render " + path("tetra.off") + " --frobnicate").status, 2);
+  EXPECT_EQ(hlodr("no-such-command").status, 2);
+}
+
+TEST_F(HlodrCli, AForcedBackendThatDoesNotExistIsAClearError) {
+  const auto r = hlodr("render " + path("tetra.off") + " -o " + path("x.png"),
+                       "HLODR_GL_BACKEND=directx");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("directx"), std::string::npos) << r.output;
+}
+
+TEST_F(HlodrCli, GeneratesAndRendersASmallCity) {
+  const auto c = hlodr("city -o " + path("city") + " --blocks 2 --texture 64 --quiet");
+  ASSERT_EQ(c.status, 0) << c.output;
+  const auto r = hlodr("render " + path("city") + " -o " + path("city.png") + " --size 160x90");
+  ASSERT_EQ(r.status, 0) << r.output;
+  auto img = hlod::loadImage(path("city.png"));
+  ASSERT_TRUE(img);
+  // Geometry covers a good part of the frame: many pixels differ from the background.
+  int covered = 0;
+  for (int y = 0; y < img->height; ++y)
+    for (int x = 0; x < img->width; ++x) {
+      const auto p = gltest::pixel(*img, x, y);
+      covered += std::abs(p.r - 179) + std::abs(p.g - 204) + std::abs(p.b - 230) > 30;
+    }
+  EXPECT_GT(covered, img->width * img->height / 10);
+}
