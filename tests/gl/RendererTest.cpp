@@ -1,6 +1,7 @@
 // Renderer tests on a real (software) GL context: golden images with a tolerance, backends that
 // agree, far-from-origin stability, reversed-Z depth precision, and the framebuffer size limit.
 #include <filesystem>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -216,4 +217,23 @@ TEST(GlBackends, RejectsAnUnknownBackendName) {
   unsetenv("HLODR_GL_BACKEND");
   ASSERT_FALSE(b);
   EXPECT_NE(b.message().find("vulkan"), std::string::npos);
+}
+
+TEST(Renderer, TwoThreadsWithAContextEachRenderTheSameFrame) {
+  // A viewing session owns its context; sessions on different threads must not interfere.
+  hlod::Image images[2];
+  bool ok[2] = {false, false};
+  auto work = [&](int i) {
+    auto ctx = contextOrSkip(Backend::Auto);
+    if (!ctx) return;
+    for (int k = 0; k < 3; ++k)
+      images[i] = renderScene(*ctx, smallScene(), {6, -8, 5}, {0, 0, 0.5}).image;
+    ok[i] = true;
+  };
+  std::thread a(work, 0), b(work, 1);
+  a.join();
+  b.join();
+  ASSERT_TRUE(ok[0] && ok[1]);
+  const auto d = compare(images[0], images[1]);
+  EXPECT_EQ(d.maxAbs, 0);
 }
