@@ -23,16 +23,26 @@ bool hasExtension(const char* list, const char* name) {
 
 std::string eglErrorName(EGLint e) {
   switch (e) {
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    default: return "EGL error 0x" + std::to_string(e);
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
+    default:
+      return "EGL error 0x" + std::to_string(e);
   }
 }
 
@@ -95,8 +105,7 @@ hlod::Result<std::unique_ptr<GlContext>> finishContext(EGLDisplay display, std::
   auto context = std::make_unique<EglContext>(display, *ctx);
   if (!context->makeCurrent())
     return hlod::makeError("eglMakeCurrent failed: " + eglErrorName(eglGetError()));
-  auto status = initialiseContext(*context, std::move(backend),
-                                  std::move(skipped));
+  auto status = initialiseContext(*context, std::move(backend), std::move(skipped));
   if (!status) return status.error();
   return std::unique_ptr<GlContext>(std::move(context));
 }
@@ -146,12 +155,12 @@ hlod::Result<std::unique_ptr<GlContext>> createEglContext() {
   // 2. Mesa surfaceless platform.
   if (!hasExtension(clientExts, "EGL_MESA_platform_surfaceless"))
     return hlod::makeError(skipped + "egl-surfaceless: EGL_MESA_platform_surfaceless not offered");
-  EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY,
-                                          nullptr);
+  EGLDisplay display =
+      getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
   EGLint major = 0, minor = 0;
   if (display == EGL_NO_DISPLAY || !eglInitialize(display, &major, &minor))
-    return hlod::makeError(skipped + "egl-surfaceless: eglInitialize failed: " +
-                           eglErrorName(eglGetError()));
+    return hlod::makeError(skipped +
+                           "egl-surfaceless: eglInitialize failed: " + eglErrorName(eglGetError()));
   auto ctx = finishContext(display, "egl-surfaceless", skipped);
   if (!ctx) return hlod::makeError(skipped + "egl-surfaceless: " + ctx.message());
   return ctx;

@@ -24,14 +24,20 @@ FrameView makeFrameView(const glm::dvec3& eye, const glm::dvec3& target, const g
   const double len = glm::length(f);
   f = len > 0.0 ? f / len : glm::dvec3(0, 0, -1);
   glm::dvec3 s = glm::cross(f, up);
-  if (glm::length(s) < 1e-12) s = glm::cross(f, std::abs(f.z) < 0.9 ? glm::dvec3(0, 0, 1)
-                                                                   : glm::dvec3(0, 1, 0));
+  if (glm::length(s) < 1e-12)
+    s = glm::cross(f, std::abs(f.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0));
   s = glm::normalize(s);
   const glm::dvec3 u = glm::cross(s, f);
   glm::dmat4 r(1.0);
-  r[0][0] = s.x; r[1][0] = s.y; r[2][0] = s.z;
-  r[0][1] = u.x; r[1][1] = u.y; r[2][1] = u.z;
-  r[0][2] = -f.x; r[1][2] = -f.y; r[2][2] = -f.z;
+  r[0][0] = s.x;
+  r[1][0] = s.y;
+  r[2][0] = s.z;
+  r[0][1] = u.x;
+  r[1][1] = u.y;
+  r[2][1] = u.z;
+  r[0][2] = -f.x;
+  r[1][2] = -f.y;
+  r[2][2] = -f.z;
   v.rotation = r;
   v.viewDir = f;
   v.projection = reversedZPerspective(glm::radians(fovYDegrees), aspect, zNear, zFar);

@@ -11,7 +11,8 @@ hlod::Status initialiseContext(GlContext& context, std::string backend, std::str
   GlFunctions& gl = context.gl_;
   const std::string missing =
       gl.load([&](const char* name) { return context.getProcAddress(name); });
-  if (!missing.empty()) return hlod::makeError(backend + ": GL entry point " + missing + " missing");
+  if (!missing.empty())
+    return hlod::makeError(backend + ": GL entry point " + missing + " missing");
   auto str = [&](GLenum e) {
     const auto* s = reinterpret_cast<const char*>(gl.GetString(e));
     return std::string(s ? s : "?");
@@ -20,10 +21,10 @@ hlod::Status initialiseContext(GlContext& context, std::string backend, std::str
   gl.GetIntegerv(GL_MAJOR_VERSION, &major);
   gl.GetIntegerv(GL_MINOR_VERSION, &minor);
   if (major * 10 + minor < 45)
-    return hlod::makeError(backend + ": GL " + std::to_string(major) + "." +
-                           std::to_string(minor) + " is below the 4.5 hlodr needs (glClipControl)");
-  context.info_ = ContextInfo{std::move(backend), str(GL_VERSION), str(GL_RENDERER),
-                              str(GL_VENDOR), std::move(skipped)};
+    return hlod::makeError(backend + ": GL " + std::to_string(major) + "." + std::to_string(minor) +
+                           " is below the 4.5 hlodr needs (glClipControl)");
+  context.info_ = ContextInfo{std::move(backend), str(GL_VERSION), str(GL_RENDERER), str(GL_VENDOR),
+                              std::move(skipped)};
   return hlod::Ok{};
 }
 

@@ -1,9 +1,9 @@
 #include "service/SceneLoading.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <unistd.h>
 
 #include "hlod/City.h"
 #include "hlod/Import.h"

@@ -1,3 +1,5 @@
 #include "service/Cli.h"
 
-int main(int argc, char** argv) { return service::runCli(argc, argv); }
+int main(int argc, char** argv) {
+  return service::runCli(argc, argv);
+}

@@ -43,7 +43,8 @@ Scene& city(int blocks) {
   for (int i = 0; i < blocks; ++i) {
     const auto block = hlod::generateBlock(co, i);
     s.bounds.extend(block.bounds());
-    s.meshes.push_back(std::move(*renderer::GpuMesh::upload(s.context->gl(), hlod::toLocal(block))));
+    s.meshes.push_back(
+        std::move(*renderer::GpuMesh::upload(s.context->gl(), hlod::toLocal(block))));
   }
   return s;
 }

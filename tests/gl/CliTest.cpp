@@ -107,21 +107,19 @@ TEST_F(HlodrCli, ReportsACorruptMeshWithoutCrashing) {
 }
 
 TEST_F(HlodrCli, RejectsBadOptionsWithUsageExitCode) {
-  EXPECT_EQ(hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --size 9000x10")
-                .status,
-            1);
+  EXPECT_EQ(
+      hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --size 9000x10").status, 1);
   EXPECT_EQ(hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --size big").status,
             2);
-  EXPECT_EQ(hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --camera 1,2,3")
-                .status,
-            2);
+  EXPECT_EQ(
+      hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --camera 1,2,3").status, 2);
   EXPECT_EQ(hlodr("render " + path("tetra.off") + " --frobnicate").status, 2);
   EXPECT_EQ(hlodr("no-such-command").status, 2);
 }
 
 TEST_F(HlodrCli, AForcedBackendThatDoesNotExistIsAClearError) {
-  const auto r = hlodr("render " + path("tetra.off") + " -o " + path("x.png"),
-                       "HLODR_GL_BACKEND=directx");
+  const auto r =
+      hlodr("render " + path("tetra.off") + " -o " + path("x.png"), "HLODR_GL_BACKEND=directx");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("directx"), std::string::npos) << r.output;
 }

@@ -57,9 +57,9 @@ inline glm::ivec4 pixel(const hlod::Image& img, int x, int y) {
 }
 
 struct ImageDiff {
-  double meanAbs = 0.0;        // mean absolute difference per channel, 0..255
-  int maxAbs = 0;              // largest channel difference
-  double differingShare = 0.0; // share of pixels with any channel differing by more than 8
+  double meanAbs = 0.0;         // mean absolute difference per channel, 0..255
+  int maxAbs = 0;               // largest channel difference
+  double differingShare = 0.0;  // share of pixels with any channel differing by more than 8
 };
 
 inline ImageDiff compare(const hlod::Image& a, const hlod::Image& b) {

@@ -21,16 +21,17 @@ struct Frame {
 };
 
 // Renders meshes with the camera at eye looking at target (Z up), 160x120.
-Frame renderScene(renderer::GlContext& ctx, const std::vector<hlod::Mesh>& meshes,
-                  glm::dvec3 eye, glm::dvec3 target, double zNear = 0.1, double zFar = 1000.0,
-                  int w = 160, int h = 120) {
+Frame renderScene(renderer::GlContext& ctx, const std::vector<hlod::Mesh>& meshes, glm::dvec3 eye,
+                  glm::dvec3 target, double zNear = 0.1, double zFar = 1000.0, int w = 160,
+                  int h = 120) {
   renderer::RenderOptions options;
   options.width = w;
   options.height = h;
   auto r = renderer::Renderer::create(ctx, options);
   EXPECT_TRUE(r) << (r ? "" : r.message());
   std::vector<renderer::GpuMesh> gpu;
-  for (const auto& m : meshes) gpu.push_back(std::move(*renderer::GpuMesh::upload(ctx.gl(), hlod::toLocal(m))));
+  for (const auto& m : meshes)
+    gpu.push_back(std::move(*renderer::GpuMesh::upload(ctx.gl(), hlod::toLocal(m))));
   std::vector<const renderer::GpuMesh*> list;
   for (const auto& g : gpu) list.push_back(&g);
   const auto view =
@@ -107,8 +108,8 @@ TEST(Renderer, SamplesTexturesWithTopLeftOrigin) {
   ASSERT_TRUE(gpu);
   const renderer::GpuMesh* list[] = {&*gpu};
   // Camera above looking down with +y up on screen: fov chosen so the quad fills the frame.
-  const auto view = renderer::makeFrameView({0, 0, 1.0 / std::tan(glm::radians(25.0))},
-                                            {0, 0, 0}, {0, 1, 0}, 50.0, 1.0, 0.1, 10.0);
+  const auto view = renderer::makeFrameView({0, 0, 1.0 / std::tan(glm::radians(25.0))}, {0, 0, 0},
+                                            {0, 1, 0}, 50.0, 1.0, 0.1, 10.0);
   (*r)->drawFrame(view, list);
   const auto img = (*r)->readback();
   // Sample at texel centres (uv 0.25 and 0.75), where bilinear filtering returns the texel.
@@ -151,8 +152,8 @@ TEST(Renderer, ReversedZKeepsSurfacesHalfAMetreApartAtTenKilometresWithNearAtTen
   auto g1 = renderer::GpuMesh::upload(ctx->gl(), hlod::toLocal(back));
   auto g2 = renderer::GpuMesh::upload(ctx->gl(), hlod::toLocal(front));
   const renderer::GpuMesh* list[] = {&*g1, &*g2};
-  const auto view = renderer::makeFrameView({0, 0.001, 10000}, {0, 0, 0}, {0, 1, 0}, 20.0,
-                                            1.5, 0.1, 100000.0);
+  const auto view =
+      renderer::makeFrameView({0, 0.001, 10000}, {0, 0, 0}, {0, 1, 0}, 20.0, 1.5, 0.1, 100000.0);
   (*r)->drawFrame(view, list);
   const auto img = (*r)->readback();
   int blue = 0, red = 0;

@@ -50,8 +50,8 @@ struct Aabb {
 struct Mesh {
   std::string name;
   std::vector<glm::dvec3> positions;
-  std::vector<glm::vec3> normals;    // empty, or one per position
-  std::vector<glm::vec2> texCoords;  // empty, or one per position
+  std::vector<glm::vec3> normals;      // empty, or one per position
+  std::vector<glm::vec2> texCoords;    // empty, or one per position
   std::vector<std::uint32_t> indices;  // three per triangle
   glm::vec4 baseColor{0.8f, 0.8f, 0.8f, 1.0f};
   std::shared_ptr<const Image> texture;  // optional base-colour texture

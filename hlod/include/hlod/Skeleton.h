@@ -23,8 +23,8 @@ struct NodeInfo {
   glm::dvec3 centre{0.0};   // payload vertices are float, relative to this
   std::uint32_t numTri = 0;
   std::uint32_t numTexTri = 0;
-  double cost = 0.0;           // eq. 1
-  double staticBenefit = 0.0;  // eq. 2
+  double cost = 0.0;                      // eq. 1
+  double staticBenefit = 0.0;             // eq. 2
   glm::vec3 avgNormal{0.0f, 0.0f, 1.0f};  // eq. 3 (fallback +Z when the node has no area)
   double geometricError = 0.0;  // world units; 0 at the leaves (for screen-space-error selection)
   std::uint64_t payloadOffset = 0;

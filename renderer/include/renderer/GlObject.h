@@ -8,15 +8,23 @@
 
 namespace renderer {
 
-enum class GlKind { Buffer, VertexArray, Texture, Framebuffer, Renderbuffer, Program, Shader, Query };
+enum class GlKind {
+  Buffer,
+  VertexArray,
+  Texture,
+  Framebuffer,
+  Renderbuffer,
+  Program,
+  Shader,
+  Query
+};
 
 class GlObject {
  public:
   GlObject() = default;
   GlObject(const GlFunctions& gl, GlKind kind, GLuint id) : gl_(&gl), kind_(kind), id_(id) {}
   ~GlObject() { reset(); }
-  GlObject(GlObject&& o) noexcept
-      : gl_(o.gl_), kind_(o.kind_), id_(std::exchange(o.id_, 0)) {}
+  GlObject(GlObject&& o) noexcept : gl_(o.gl_), kind_(o.kind_), id_(std::exchange(o.id_, 0)) {}
   GlObject& operator=(GlObject&& o) noexcept {
     if (this != &o) {
       reset();

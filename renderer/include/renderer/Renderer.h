@@ -20,9 +20,9 @@ namespace renderer {
 
 // The effects a scene declares. Only these are compiled and executed.
 struct Effects {
-  bool textures = true;  // sample base-colour textures where a mesh has one
-  bool lambert = true;   // directional sun + hemisphere ambient; false: unlit
-  bool fog = false;      // exponential distance fog towards the background colour
+  bool textures = true;     // sample base-colour textures where a mesh has one
+  bool lambert = true;      // directional sun + hemisphere ambient; false: unlit
+  bool fog = false;         // exponential distance fog towards the background colour
   double fogDensity = 0.0;  // per world unit; 0 picks one from the view distance
   glm::vec3 background{0.70f, 0.80f, 0.90f};
 };
@@ -31,7 +31,7 @@ struct RenderOptions {
   int width = 1280;
   int height = 720;
   Effects effects;
-  glm::dvec3 up{0.0, 0.0, 1.0};        // world up (hemisphere light)
+  glm::dvec3 up{0.0, 0.0, 1.0};                // world up (hemisphere light)
   glm::dvec3 sunDirection{0.45, -0.35, 0.82};  // towards the sun, world space
 };
 
@@ -66,7 +66,8 @@ class Renderer {
   const RenderOptions& options() const { return options_; }
 
  private:
-  Renderer(GlContext& context, const RenderOptions& options) : context_(context), options_(options) {}
+  Renderer(GlContext& context, const RenderOptions& options)
+      : context_(context), options_(options) {}
   hlod::Status init();
   const ShaderProgram& program(bool textured);
 

@@ -23,8 +23,7 @@ class Args {
   std::optional<std::string> get(const std::string& name) const;
   std::string get(const std::string& name, const std::string& fallback) const;
   // Numeric options: an Error for a value that is not a number or is outside [lo, hi].
-  hlod::Result<double> number(const std::string& name, double fallback, double lo,
-                              double hi) const;
+  hlod::Result<double> number(const std::string& name, double fallback, double lo, double hi) const;
   hlod::Result<long long> integer(const std::string& name, long long fallback, long long lo,
                                   long long hi) const;
 

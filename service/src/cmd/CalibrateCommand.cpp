@@ -76,8 +76,8 @@ double medianFrameMs(renderer::GlContext& context, const std::vector<hlod::Mesh>
 int runCalibrate(const Argv& argv) {
   auto args = Args::parse(argv, {"dry-run"}, {"blocks", "frames", "size"});
   if (!args || !args->positionals().empty()) {
-    std::fprintf(stderr, "hlodr calibrate: %s\n%s", args ? "unexpected argument" : args.message().c_str(),
-                 kCalibrateUsage);
+    std::fprintf(stderr, "hlodr calibrate: %s\n%s",
+                 args ? "unexpected argument" : args.message().c_str(), kCalibrateUsage);
     return 2;
   }
   auto blocks = args->integer("blocks", 8, 1, 256);
@@ -112,12 +112,13 @@ int runCalibrate(const Argv& argv) {
   const double tTex = medianFrameMs(**context, meshes, true, width, height, int(*frames), error);
   const double tFlat = medianFrameMs(**context, meshes, false, width, height, int(*frames), error);
   if (!error.empty() || tTex <= 0.0 || tFlat <= 0.0) {
-    std::fprintf(stderr, "hlodr calibrate: %s\n", error.empty() ? "no time measured" : error.c_str());
+    std::fprintf(stderr, "hlodr calibrate: %s\n",
+                 error.empty() ? "no time measured" : error.c_str());
     return 1;
   }
   const double cTex = tTex / (tTex + tFlat);
-  std::printf("%zu triangles at %dx%d: textured %.2f ms, flat %.2f ms -> c_tex = %.4f\n",
-              triangles, width, height, tTex, tFlat, cTex);
+  std::printf("%zu triangles at %dx%d: textured %.2f ms, flat %.2f ms -> c_tex = %.4f\n", triangles,
+              width, height, tTex, tFlat, cTex);
   if (args->has("dry-run")) return 0;
   const auto written = hlod::writeCalibration(cTex);
   if (!written) {
