@@ -277,7 +277,9 @@ TEST_P(BuildHierarchy, GeometricErrorIsMonotoneAndZeroAtLeaves) {
   ASSERT_GT(nodes.size(), 4u);
   EXPECT_GT(nodes[0].info.geometricError, 0.0);
   // meshopt's error is a distance; OpenMesh's (sqrt of a summed quadric) is a loose upper bound.
-  if (std::string(GetParam()) == "meshopt") EXPECT_LT(nodes[0].info.geometricError, 5.0);
+  if (std::string(GetParam()) == "meshopt") {
+    EXPECT_LT(nodes[0].info.geometricError, 5.0);
+  }
   for (std::size_t i = 1; i < nodes.size(); ++i)
     EXPECT_GE(nodes[nodes[i].info.parent].info.geometricError, nodes[i].info.geometricError);
 }

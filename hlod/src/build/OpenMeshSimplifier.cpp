@@ -11,13 +11,6 @@
 
 #include "build/SimplifierImpl.h"
 
-// Stopgap: the decimater's inline observer hook references this member of libOpenMeshTools,
-// which hlodr_hlod does not link yet (only OpenMeshCore). We never install an observer, so it is
-// never called; the weak definition yields to the library's once OpenMeshTools is linked.
-__attribute__((weak)) std::size_t OpenMesh::Decimater::Observer::get_interval() const {
-  return notificationInterval_;
-}
-
 namespace hlod {
 
 namespace {
