@@ -18,12 +18,14 @@ const std::vector<Command>& commands() {
       {"city", "generate the procedural city (the default scene)", cmd::kCityUsage, cmd::runCity},
       {"render", "render a frame of a mesh, city folder or node store", cmd::kRenderUsage,
        cmd::runRender},
-      {"build", "build an HLOD node store from a mesh, glTF scene or city folder",
-       cmd::kBuildUsage, cmd::runBuild},
+      {"build", "build an HLOD node store from a mesh, glTF scene or city folder", cmd::kBuildUsage,
+       cmd::runBuild},
       {"info", "show the levels, sizes and build parameters of a node store", cmd::kInfoUsage,
        cmd::runInfo},
-      {"calibrate", "measure c_tex (textured vs flat triangle cost) on this GL", cmd::kCalibrateUsage,
-       cmd::runCalibrate},
+      {"calibrate", "measure c_tex (textured vs flat triangle cost) on this GL",
+       cmd::kCalibrateUsage, cmd::runCalibrate},
+      {"path", "write a camera path (walk-fly, drive, orbit) for a node store", cmd::kPathUsage,
+       cmd::runPath},
   };
   return table;
 }

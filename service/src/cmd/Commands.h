@@ -22,4 +22,10 @@ int runInfo(const Argv& args);
 extern const char* const kCalibrateUsage;
 int runCalibrate(const Argv& args);
 
+extern const char* const kPathUsage;
+int runPath(const Argv& args);
+// `hlodr render STORE --path PATH.json`: a camera path through a PathSession (PathCommand.cpp).
+int runRenderPath(const Argv& args);
+bool isNodeStore(const std::string& path);
+
 }  // namespace service::cmd

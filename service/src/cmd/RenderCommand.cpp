@@ -1,4 +1,5 @@
-// `hlodr render MODEL -o frame.png`: one frame of a mesh file or city folder at full detail.
+// `hlodr render MODEL -o frame.png`: one frame of a mesh file or city folder at full detail;
+// `hlodr render STORE --path PATH.json -o OUT`: a camera path through a node store (PathCommand).
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -30,6 +31,31 @@ const char* const kRenderUsage =
     "  --fog                   distance fog\n"
     "  --quiet                 no progress output\n"
     "\n"
+    "\n"
+    "usage: hlodr render STORE --path PATH.json -o OUT [options]\n"
+    "\n"
+    "Runs a camera path (from `hlodr path`) through the node STORE (from `hlodr build`) with the\n"
+    "time-budgeted front selector and the streaming loader. OUT is a folder for a PNG sequence\n"
+    "(frame_00000.png ...) or a file ending .mp4 (needs ffmpeg). Writes stats.json and\n"
+    "stats.csv into the folder, or STEM.stats.json / STEM.stats.csv beside the .mp4.\n"
+    "\n"
+    "options:\n"
+    "  --budget-ms MS          frame time budget (default 33)\n"
+    "  --selector S            lakhia (default), sse, fs or full\n"
+    "  --mode M                realtime (default: never wait for loading; not yet loaded nodes\n"
+    "                          are drawn coarser) or settled (wait until the selected front is\n"
+    "                          loaded: frames independent of I/O timing, for videos)\n"
+    "  --size WxH              frame size (default 1280x720)\n"
+    "  --fps N                 path sampling rate (default 30)\n"
+    "  --frames N              render only the first N frames\n"
+    "  --memory-mb N           cap on resident payload memory (default: none)\n"
+    "  --io-mbps X             emulated link speed for loading (default: unthrottled)\n"
+    "  --io-latency-ms Y       emulated latency per read\n"
+    "  --upload-ms MS          per-frame GPU upload budget (default 2)\n"
+    "  --prefetch              prefetch what the path needs 1 s ahead\n"
+    "  --plots                 also levels.svg, toggles.svg, frametime.svg (Lakhia Figs. 7-9)\n"
+    "  --quiet, --unlit, --no-textures, --fog   as above\n"
+    "\n"
     "environment: HLODR_GL_BACKEND=egl|osmesa forces a GL backend (default: EGL, then OSMesa).\n";
 
 namespace {
@@ -52,8 +78,10 @@ bool parseVec6(const std::string& s, double v[6]) {
 }  // namespace
 
 int runRender(const Argv& argv) {
-  auto args = Args::parse(argv, {"unlit", "no-textures", "fog", "quiet"},
-                          {"output", "camera", "up", "size", "fov"});
+  auto args =
+      Args::parse(argv, {"unlit", "no-textures", "fog", "quiet", "prefetch", "plots"},
+                  {"output", "camera", "up", "size", "fov", "path", "budget-ms", "selector", "mode",
+                   "memory-mb", "fps", "io-mbps", "io-latency-ms", "frames", "upload-ms"});
   if (!args) {
     std::fprintf(stderr, "hlodr render: %s\n", args.message().c_str());
     return 2;
@@ -61,6 +89,15 @@ int runRender(const Argv& argv) {
   if (args->positionals().size() != 1 || !args->has("output")) {
     std::fprintf(stderr, "%s", kRenderUsage);
     return 2;
+  }
+  // A node store, or any --path: a camera path run (PathCommand.cpp checks the rest).
+  if (args->has("path") || isNodeStore(args->positionals()[0])) return runRenderPath(argv);
+  for (const char* o : {"budget-ms", "selector", "mode", "memory-mb", "fps", "io-mbps",
+                        "io-latency-ms", "frames", "upload-ms", "prefetch", "plots"}) {
+    if (args->has(o)) {
+      std::fprintf(stderr, "hlodr render: --%s needs a node store and --path\n", o);
+      return 2;
+    }
   }
   renderer::RenderOptions options;
   if (!parseSize(args->get("size", "1280x720"), options.width, options.height)) {
@@ -89,9 +126,12 @@ int runRender(const Argv& argv) {
     return 1;
   }
   if (auto up = args->get("up")) {
-    if (*up == "x") scene->up = {1, 0, 0};
-    else if (*up == "y") scene->up = {0, 1, 0};
-    else if (*up == "z") scene->up = {0, 0, 1};
+    if (*up == "x")
+      scene->up = {1, 0, 0};
+    else if (*up == "y")
+      scene->up = {0, 1, 0};
+    else if (*up == "z")
+      scene->up = {0, 0, 1};
     else {
       std::fprintf(stderr, "hlodr render: --up must be x, y or z\n");
       return 2;
@@ -144,8 +184,8 @@ int runRender(const Argv& argv) {
   }
   double zNear = 0.1, zFar = 1e5;
   clipPlanes(camera, bounds, zNear, zFar);
-  const auto view = renderer::makeFrameView(camera.position, camera.target, camera.up,
-                                            camera.fovY, aspect, zNear, zFar);
+  const auto view = renderer::makeFrameView(camera.position, camera.target, camera.up, camera.fovY,
+                                            aspect, zNear, zFar);
 
   (*r)->drawFrame(view, drawList);  // warm-up: first-use costs (shader JIT) are not the frame
   const auto timing = (*r)->drawFrame(view, drawList);

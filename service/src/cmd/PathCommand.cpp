@@ -1,0 +1,201 @@
+// `hlodr path STORE --kind walk-fly|drive|orbit -o PATH.json`: a camera path for a node store,
+// and `hlodr render STORE --path PATH.json -o OUT`: a path run through a PathSession.
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "cmd/Commands.h"
+#include "hlod/CameraPath.h"
+#include "hlod/NodeStore.h"
+#include "service/Args.h"
+#include "service/PathSession.h"
+
+namespace service::cmd {
+
+namespace fs = std::filesystem;
+
+const char* const kPathUsage =
+    "usage: hlodr path STORE --kind walk-fly|drive|orbit -o PATH.json [--duration S]\n"
+    "\n"
+    "Writes a camera path (JSON keyframes: time, position, target, up, fov) for the model in the\n"
+    "node STORE (made by `hlodr build`). Render it with `hlodr render STORE --path PATH.json`.\n"
+    "\n"
+    "options:\n"
+    "  --kind K                walk-fly: a street-level walk rising into a fly-over (35 s);\n"
+    "                          drive: a loop along streets at 1.5 m; orbit: a circle around the\n"
+    "                          model (30 s)\n"
+    "  -o, --output PATH.json  output file (required)\n"
+    "  --duration S            stretch or shrink the path to S seconds\n";
+
+namespace {
+
+bool isStore(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_directory(p, ec) && fs::exists(p / "skeleton.bin", ec);
+}
+
+bool parseSize(const std::string& s, int& w, int& h) {
+  char x = 0;
+  std::istringstream in(s);
+  return (in >> w >> x >> h) && x == 'x' && in.eof();
+}
+
+int usageError(const char* cmd, const std::string& message) {
+  std::fprintf(stderr, "hlodr %s: %s\n", cmd, message.c_str());
+  return 2;
+}
+
+}  // namespace
+
+bool isNodeStore(const std::string& path) {
+  return isStore(path);
+}
+
+int runPath(const Argv& argv) {
+  auto args = Args::parse(argv, {}, {"output", "kind", "duration"});
+  if (!args) return usageError("path", args.message());
+  if (args->positionals().size() != 1 || !args->has("output") || !args->has("kind")) {
+    std::fprintf(stderr, "%s", kPathUsage);
+    return 2;
+  }
+  auto duration = args->number("duration", 0.0, 0.1, 1e6);
+  if (!duration) return usageError("path", duration.message());
+  const std::string kind = args->get("kind", "");
+  if (kind != "walk-fly" && kind != "drive" && kind != "orbit")
+    return usageError("path", "--kind must be walk-fly, drive or orbit (not '" + kind + "')");
+
+  const fs::path storePath = args->positionals()[0];
+  if (!isStore(storePath)) {
+    std::fprintf(stderr,
+                 "hlodr path: %s is not a node store (a folder with skeleton.bin; make one with "
+                 "`hlodr build`)\n",
+                 storePath.string().c_str());
+    return 1;
+  }
+  auto store = hlod::NodeStore::open(storePath);
+  if (!store) {
+    std::fprintf(stderr, "hlodr path: %s: %s\n", storePath.string().c_str(),
+                 store.message().c_str());
+    return 1;
+  }
+  auto path = hlod::makeCameraPath(kind, (*store)->skeleton());
+  if (!path) {
+    std::fprintf(stderr, "hlodr path: %s\n", path.message().c_str());
+    return 1;
+  }
+  if (*duration > 0.0) {
+    // Same keyframes, times scaled about the start.
+    auto keys = path->keyframes();
+    const double t0 = path->startTime(), scale = *duration / path->duration();
+    for (auto& k : keys) k.time = t0 + (k.time - t0) * scale;
+    auto scaled = hlod::CameraPath::fromKeyframes(std::move(keys));
+    if (!scaled) {
+      std::fprintf(stderr, "hlodr path: %s\n", scaled.message().c_str());
+      return 1;
+    }
+    path = std::move(scaled);
+  }
+  const std::string out = args->get("output", "");
+  if (auto w = path->write(out); !w) {
+    std::fprintf(stderr, "hlodr path: %s\n", w.message().c_str());
+    return 1;
+  }
+  std::printf("%s: %s path, %zu keyframes, %.1f s\n", out.c_str(), kind.c_str(),
+              path->keyframes().size(), path->duration());
+  return 0;
+}
+
+int runRenderPath(const Argv& argv) {
+  auto args = Args::parse(argv, {"prefetch", "plots", "quiet", "unlit", "no-textures", "fog"},
+                          {"output", "path", "budget-ms", "selector", "mode", "size", "memory-mb",
+                           "fps", "io-mbps", "io-latency-ms", "frames", "upload-ms"});
+  if (!args) return usageError("render", args.message());
+  if (args->positionals().size() != 1 || !args->has("output") || !args->has("path")) {
+    std::fprintf(stderr,
+                 "hlodr render: a node store needs --path PATH.json (make one with `hlodr path`) "
+                 "and -o OUT (a folder or a .mp4)\n");
+    return 2;
+  }
+  PathSessionOptions so;
+  if (!parseSize(args->get("size", "1280x720"), so.width, so.height) || so.width < 1 ||
+      so.height < 1 || so.width > 8192 || so.height > 8192)
+    return usageError("render", "--size must look like 1280x720 (at most 8192x8192)");
+  auto budget = args->number("budget-ms", 33.0, 0.01, 1e5);
+  auto memory = args->number("memory-mb", 0.0, 0.0, 1e7);
+  auto fps = args->number("fps", 30.0, 0.1, 1000.0);
+  auto ioMbps = args->number("io-mbps", 0.0, 0.0, 1e7);
+  auto ioLatency = args->number("io-latency-ms", 0.0, 0.0, 1e5);
+  auto frames = args->integer("frames", -1, 0, 100000000);
+  auto uploadMs = args->number("upload-ms", 2.0, 0.0, 1e5);
+  for (const auto* r : {&budget, &memory, &fps, &ioMbps, &ioLatency, &uploadMs})
+    if (!*r) return usageError("render", r->message());
+  if (!frames) return usageError("render", frames.message());
+  so.budgetMs = *budget;
+  so.memoryCapBytes = static_cast<std::uint64_t>(*memory * 1024.0 * 1024.0);
+  so.ioMbps = *ioMbps;
+  so.ioLatencyMs = *ioLatency;
+  so.uploadBudgetMs = *uploadMs;
+  so.selector = args->get("selector", "lakhia");
+  if (so.selector != "lakhia" && so.selector != "sse" && so.selector != "fs" &&
+      so.selector != "full")
+    return usageError("render", "--selector must be lakhia, sse, fs or full");
+  const std::string mode = args->get("mode", "realtime");
+  if (mode == "realtime")
+    so.mode = PathMode::Realtime;
+  else if (mode == "settled")
+    so.mode = PathMode::Settled;
+  else
+    return usageError("render", "--mode must be realtime or settled");
+  so.effects.lambert = !args->has("unlit");
+  so.effects.textures = !args->has("no-textures");
+  so.effects.fog = args->has("fog");
+  auto backend = renderer::backendFromEnvironment();
+  if (!backend) return usageError("render", backend.message());
+  so.backend = *backend;
+
+  auto path = hlod::CameraPath::read(args->get("path", ""));
+  if (!path) {
+    std::fprintf(stderr, "hlodr render: %s: %s\n", args->get("path", "").c_str(),
+                 path.message().c_str());
+    return 1;
+  }
+  auto session = PathSession::open(args->positionals()[0], so);
+  if (!session) {
+    std::fprintf(stderr, "hlodr render: %s\n", session.message().c_str());
+    return 1;
+  }
+  const bool quiet = args->has("quiet");
+  if (!quiet) std::fprintf(stderr, "%s\n", renderer::describe((*session)->contextInfo()).c_str());
+
+  PathRunOptions ro;
+  ro.output = args->get("output", "");
+  ro.fps = *fps;
+  ro.maxFrames = *frames;
+  ro.prefetchSeconds = args->has("prefetch") ? 1.0 : 0.0;
+  ro.plots = args->has("plots");
+  ro.progress = !quiet;
+  auto result = runPath(**session, *path, ro);
+  if (!result) {
+    std::fprintf(stderr, "hlodr render: %s\n", result.message().c_str());
+    return 1;
+  }
+  const auto& s = result->summary;
+  std::printf(
+      "%zu frames -> %s\n"
+      "frame time vs target %.1f ms: median |actual-target|/target %.3f, p95 %.3f, over target "
+      "%.1f%%, over 1.25x %.1f%%, p99 actual/target %.2f, mean %.2f ms\n"
+      "stalls %llu, toggles/frame %.2f, peak resident %.1f MB",
+      result->framesRendered, ro.output.string().c_str(), so.budgetMs, s.medianRelError,
+      s.p95RelError, 100.0 * s.shareOverTarget, 100.0 * s.shareOver125, s.p99OverTarget,
+      s.meanGpuMs, static_cast<unsigned long long>(s.totalStalls), s.togglesPerFrame,
+      s.peakResidentBytes / 1048576.0);
+  if (s.capBytes > 0) std::printf(" of cap %.1f MB (%.2f)", s.capBytes / 1048576.0, s.peakOverCap);
+  std::printf("\nstats: %s\n", result->statsJson.string().c_str());
+  for (const auto& p : result->plots) std::printf("plot: %s\n", p.string().c_str());
+  return 0;
+}
+
+}  // namespace service::cmd

@@ -1,0 +1,269 @@
+// PathSession on a real (software) GL context: a tiny node store built in the test from two
+// procedural city blocks, an orbit path, settled and realtime runs, and the CLI end to end.
+#include "service/PathSession.h"
+
+#include <sys/wait.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "hlod/City.h"
+#include "hlod/HlodBuilder.h"
+#include "hlod/NodeStore.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path testRoot() {
+  return fs::temp_directory_path() / ("hlodr_pathsession_" + std::to_string(::getpid()));
+}
+
+// Two city blocks with small textures and small leaves, so the tree has several levels.
+const fs::path& tinyStore() {
+  static const fs::path store = [] {
+    const fs::path dir = testRoot() / "tiny.hlod";
+    fs::create_directories(testRoot());
+    hlod::BuildOptions bo;
+    bo.desiredTri = 1500;
+    auto builder = hlod::HlodBuilder::create(dir, bo);
+    EXPECT_TRUE(builder.ok()) << builder.message();
+    if (!builder) return dir;
+    hlod::CityOptions co;
+    co.textureSize = 64;
+    for (int i = 0; i < 2; ++i) {
+      auto s = (*builder)->addBlock(hlod::generateBlock(co, i));
+      EXPECT_TRUE(s.ok()) << s.message();
+    }
+    auto skel = (*builder)->finish(0.0);
+    EXPECT_TRUE(skel.ok()) << skel.message();
+    return dir;
+  }();
+  return store;
+}
+
+class PathSessionTest : public ::testing::Test {
+ protected:
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(testRoot(), ec);
+  }
+  void SetUp() override {
+    auto store = hlod::NodeStore::open(tinyStore());
+    ASSERT_TRUE(store.ok()) << store.message();
+    skeleton = (*store)->skeleton();
+    auto p = hlod::makeOrbitPath(skeleton, 2.0);
+    ASSERT_TRUE(p.ok()) << p.message();
+    path = std::make_unique<hlod::CameraPath>(std::move(*p));
+    out = testRoot() / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(out);
+  }
+
+  service::PathSessionOptions smallOptions(service::PathMode mode) const {
+    service::PathSessionOptions o;
+    o.width = 160;
+    o.height = 90;
+    o.mode = mode;
+    o.budgetMs = 5.0;
+    return o;
+  }
+
+  std::uint64_t rootBytes() const {
+    std::uint64_t b = 0;
+    for (auto r : skeleton.roots) b += skeleton.nodes[r].payloadSize;
+    return b;
+  }
+
+  hlod::Skeleton skeleton;
+  std::unique_ptr<hlod::CameraPath> path;
+  fs::path out;
+};
+
+std::size_t countFiles(const fs::path& dir, const std::string& ext) {
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ext) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST_F(PathSessionTest, SettledRunWritesOneRecordAndOnePngPerFrameWithNoCoarserNodes) {
+  auto session = service::PathSession::open(tinyStore(), smallOptions(service::PathMode::Settled));
+  ASSERT_TRUE(session.ok()) << session.message();
+  service::PathRunOptions ro;
+  ro.output = out;
+  ro.fps = 10.0;
+  ro.maxFrames = 20;
+  ro.plots = true;
+  auto result = service::runPath(**session, *path, ro);
+  ASSERT_TRUE(result.ok()) << result.message();
+
+  ASSERT_EQ((*session)->frames().size(), 20u);
+  EXPECT_EQ(countFiles(out, ".png"), 20u);
+  EXPECT_TRUE(fs::exists(out / "frame_00019.png"));
+  for (const auto& f : (*session)->frames()) {
+    EXPECT_EQ(f.coarserNotResident, 0u) << "frame " << f.index;
+    EXPECT_GT(f.triangles, 0u);
+  }
+  // Settled frames draw below hlod_0 once the front is loaded.
+  std::uint64_t deeper = 0;
+  for (const auto& f : (*session)->frames())
+    for (std::size_t l = 1; l < f.nodesPerLevel.size(); ++l) deeper += f.nodesPerLevel[l];
+  EXPECT_GT(deeper, 0u);
+
+  std::ifstream in(out / "stats.json");
+  const auto json = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(json.is_discarded());
+  ASSERT_TRUE(json.contains("frames"));
+  ASSERT_TRUE(json.contains("summary"));
+  EXPECT_EQ(json["frames"].size(), 20u);
+  EXPECT_EQ(json["summary"]["frames"].get<int>(), 20);
+  EXPECT_TRUE(fs::exists(out / "stats.csv"));
+  for (const char* svg : {"levels.svg", "toggles.svg", "frametime.svg"})
+    EXPECT_GT(fs::file_size(out / svg), 100u) << svg;
+}
+
+TEST_F(PathSessionTest, RealtimeRunNeverStallsAndKeepsResidentBytesUnderTheCap) {
+  auto o = smallOptions(service::PathMode::Realtime);
+  o.memoryCapBytes = rootBytes() * 3;  // room for some of the tree, not all of it
+  o.ioMbps = 200.0;                    // loading takes frames: render-while-loading happens
+  auto session = service::PathSession::open(tinyStore(), o);
+  ASSERT_TRUE(session.ok()) << session.message();
+  service::PathRunOptions ro;
+  ro.statsDir = out;
+  ro.fps = 10.0;
+  ro.maxFrames = 20;
+  ro.prefetchSeconds = 0.5;
+  auto result = service::runPath(**session, *path, ro);
+  ASSERT_TRUE(result.ok()) << result.message();
+
+  const auto& frames = (*session)->frames();
+  ASSERT_EQ(frames.size(), 20u);
+  for (const auto& f : frames) {
+    EXPECT_EQ(f.stalls, 0u) << "frame " << f.index;
+    EXPECT_EQ(f.capBytes, o.memoryCapBytes);
+    EXPECT_LE(f.residentBytes, f.capBytes) << "frame " << f.index;
+    EXPECT_GT(f.gpuMs, 0.0);
+  }
+  EXPECT_EQ(result->summary.totalStalls, 0u);
+  EXPECT_LE(result->summary.peakOverCap, 1.0);
+  EXPECT_TRUE(fs::exists(out / "stats.json"));
+  EXPECT_EQ(countFiles(out, ".png"), 0u);  // no image output asked for
+}
+
+TEST_F(PathSessionTest, FrameTimeFeedbackChangesVTime) {
+  auto session = service::PathSession::open(tinyStore(), smallOptions(service::PathMode::Realtime));
+  ASSERT_TRUE(session.ok()) << session.message();
+  const double initial = (*session)->selector().vTime();
+  const auto samples = path->sampleAt(10.0, 160.0 / 90.0);
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE((*session)->renderFrame(samples[i]).ok());
+  // The first guess (100 M triangles/s) is not this GL's speed: the loop moves v_time.
+  EXPECT_NE((*session)->selector().vTime(), initial);
+  EXPECT_NE((*session)->frames().back().vTime, (*session)->frames().front().vTime);
+}
+
+TEST_F(PathSessionTest, TwoSessionsRunSideBySideOnOneThread) {
+  auto a = service::PathSession::open(tinyStore(), smallOptions(service::PathMode::Settled));
+  auto b = service::PathSession::open(tinyStore(), smallOptions(service::PathMode::Realtime));
+  ASSERT_TRUE(a.ok()) << a.message();
+  ASSERT_TRUE(b.ok()) << b.message();
+  const auto samples = path->sampleAt(10.0, 160.0 / 90.0);
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_TRUE((*a)->renderFrame(samples[i]).ok());
+    ASSERT_TRUE((*b)->renderFrame(samples[samples.size() - 1 - i]).ok());
+  }
+  EXPECT_EQ((*a)->frames().size(), 4u);
+  EXPECT_EQ((*b)->frames().size(), 4u);
+  // Each readback is its own session's frame: both see the model (not only background).
+  for (auto* s : {a->get(), b->get()}) {
+    const hlod::Image img = s->readback();
+    ASSERT_EQ(img.width, 160);
+    const auto* p = img.pixels.data();
+    bool varied = false;
+    for (std::size_t i = 4; i < img.pixels.size() && !varied; i += 4)
+      varied = p[i] != p[0] || p[i + 1] != p[1] || p[i + 2] != p[2];
+    EXPECT_TRUE(varied);
+  }
+}
+
+TEST_F(PathSessionTest, OpeningSomethingThatIsNotAStoreIsAClearError) {
+  fs::create_directories(out);
+  auto s = service::PathSession::open(out, smallOptions(service::PathMode::Realtime));
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("not a node store"), std::string::npos) << s.message();
+  auto bad = smallOptions(service::PathMode::Realtime);
+  bad.selector = "nope";
+  auto t = service::PathSession::open(tinyStore(), bad);
+  ASSERT_FALSE(t.ok());
+  EXPECT_NE(t.message().find("unknown selector"), std::string::npos) << t.message();
+}
+
+namespace {
+
+struct Run {
+  int status = -1;
+  std::string output;
+};
+
+Run hlodr(const std::string& args) {
+  Run r;
+  const std::string cmd = std::string(HLODR_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+}  // namespace
+
+TEST_F(PathSessionTest, CliWritesAPathAndRendersItToAnMp4) {
+  if (std::system("command -v ffmpeg > /dev/null 2>&1") != 0) GTEST_SKIP() << "no ffmpeg";
+  fs::create_directories(out);
+  const std::string store = tinyStore().string();
+  const std::string pathJson = (out / "orbit.json").string();
+  auto p = hlodr("path " + store + " --kind orbit --duration 2 -o " + pathJson);
+  ASSERT_EQ(p.status, 0) << p.output;
+  ASSERT_TRUE(hlod::CameraPath::read(pathJson).ok());
+
+  const fs::path video = out / "orbit.mp4";
+  auto r = hlodr("render " + store + " --path " + pathJson + " -o " + video.string() +
+                 " --size 160x90 --fps 10 --frames 12 --mode settled --budget-ms 10 --plots");
+  ASSERT_EQ(r.status, 0) << r.output;
+  ASSERT_TRUE(fs::exists(video));
+  EXPECT_GT(fs::file_size(video), 0u);
+  EXPECT_TRUE(fs::exists(out / "orbit.stats.json"));
+  EXPECT_TRUE(fs::exists(out / "orbit.stats.csv"));
+  EXPECT_TRUE(fs::exists(out / "orbit.frametime.svg"));
+  EXPECT_NE(r.output.find("12 frames"), std::string::npos) << r.output;
+}
+
+TEST_F(PathSessionTest, CliRejectsBadOptionsAndBadPaths) {
+  fs::create_directories(out);
+  const std::string store = tinyStore().string();
+  auto k = hlodr("path " + store + " --kind spiral -o " + (out / "p.json").string());
+  EXPECT_EQ(k.status, 2);
+  EXPECT_NE(k.output.find("walk-fly"), std::string::npos) << k.output;
+
+  std::ofstream(out / "bad.json") << "{\"keyframes\": [";
+  auto b = hlodr("render " + store + " --path " + (out / "bad.json").string() + " -o " +
+                 (out / "frames").string());
+  EXPECT_EQ(b.status, 1);
+  EXPECT_NE(b.output.find("bad.json"), std::string::npos) << b.output;
+
+  auto m = hlodr("render " + store + " --path " + (out / "bad.json").string() + " -o " +
+                 (out / "frames").string() + " --mode sometimes");
+  EXPECT_EQ(m.status, 2);
+  EXPECT_NE(m.output.find("--mode"), std::string::npos) << m.output;
+}
