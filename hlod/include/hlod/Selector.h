@@ -11,6 +11,7 @@
 //   loader.setWanted(s.loadPriorities);                 // loader fetches what is missing
 //   ... draw s.front, measure the frame time ...
 //   selector->feedback(measuredMs);                      // v_time feedback loop
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -166,6 +167,46 @@ class Selector {
   void finishFrame(Selection& s);
   double effectiveCost(std::uint32_t node) const;  // max(cost, c_minCost)
   bool refinedLastFrame(std::uint32_t node) const { return refinedFrame_[node] == frame_ - 1; }
+
+  // The breadth-first front walk every selector shares (Lakhia III-C: siblings are decided
+  // before their children). queue starts with the visible roots. For each node: a leaf, or one
+  // that wantsChildren(n) declines, is drawn; otherwise visit(c) is called for each child (it
+  // records the child for the loader and returns its visibility), refine(n, visibleChildren)
+  // decides whether they replace n, and if one of them is not resident n is drawn instead.
+  template <class WantsChildren, class Visit, class Refine>
+  void walkFront(std::vector<std::uint32_t> queue, const Residency& residency, Selection& s,
+                 WantsChildren&& wantsChildren, Visit&& visit, Refine&& refine) {
+    const auto& nodes = skeleton_.nodes;
+    std::vector<std::uint32_t> children;
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const std::uint32_t n = queue[head];
+      const NodeInfo& info = nodes[n];
+      const bool hasChildren = info.childCount > 0 && info.firstChild < nodes.size() &&
+                               info.childCount <= nodes.size() - info.firstChild;
+      if (!hasChildren || !wantsChildren(n)) {
+        markDrawn(n, s);
+        continue;
+      }
+      children.clear();
+      for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c)
+        if (visit(c)) children.push_back(c);
+      if (!refine(n, children)) {
+        markDrawn(n, s);
+        continue;
+      }
+      // A visible child that is not resident keeps all its siblings out: draw the parent.
+      if (!std::all_of(children.begin(), children.end(),
+                       [&](std::uint32_t c) { return residency.isResident(c); })) {
+        ++s.coarserBecauseNotResident;
+        markDrawn(n, s);
+        continue;
+      }
+      // Refined: the visible children take the node's place (invisible ones are not drawn).
+      markRefined(n, s);
+      queue.insert(queue.end(), children.begin(), children.end());
+    }
+    finishFrame(s);
+  }
 
   const Skeleton& skeleton_;
   SelectorParams params_;

@@ -111,44 +111,17 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
   }
   sliceSiblings(visible, params_.lakhia.c_targetTime);
 
-  // Breadth-first: every node in the queue is visible and resident; decide whether its visible
-  // children replace it.
-  std::vector<std::uint32_t> queue = visible;
-  std::vector<std::uint32_t> children;
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const std::uint32_t n = queue[head];
-    const NodeInfo& info = nodes[n];
-    if (info.childCount == 0 || info.firstChild >= nodes.size() ||
-        info.childCount > nodes.size() - info.firstChild) {
-      markDrawn(n, s);
-      continue;
-    }
-    children.clear();
-    for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c) {
-      if (visit(c)) children.push_back(c);
-    }
-    // shareTime of the children is the parent's timeSlice.
-    const long long cumHyst = sliceSiblings(children, timeSlice_[n]);
-    // Parent drawn when cumHyst < 0 (paper); refining anew needs cumHyst >= c_hystRefine.
-    const long long threshold =
-        refinedLastFrame(n) ? 0 : std::max(0LL, params_.lakhia.c_hystRefine);
-    if (cumHyst < threshold) {
-      markDrawn(n, s);
-      continue;
-    }
-    // A visible child that is not resident keeps all its siblings out: draw the parent.
-    const bool allResident = std::all_of(children.begin(), children.end(),
-                                         [&](std::uint32_t c) { return residency.isResident(c); });
-    if (!allResident) {
-      ++s.coarserBecauseNotResident;
-      markDrawn(n, s);
-      continue;
-    }
-    // Refined: the visible children take the node's place (invisible ones are not drawn).
-    markRefined(n, s);
-    queue.insert(queue.end(), children.begin(), children.end());
-  }
-  finishFrame(s);
+  // Breadth-first: the visible children replace a node when their cumHyst allows it.
+  walkFront(
+      visible, residency, s, [](std::uint32_t) { return true; }, visit,
+      [&](std::uint32_t n, const std::vector<std::uint32_t>& children) {
+        // shareTime of the children is the parent's timeSlice.
+        const long long cumHyst = sliceSiblings(children, timeSlice_[n]);
+        // Parent drawn when cumHyst < 0 (paper); refining anew needs cumHyst >= c_hystRefine.
+        const long long threshold =
+            refinedLastFrame(n) ? 0 : std::max(0LL, params_.lakhia.c_hystRefine);
+        return cumHyst >= threshold;
+      });
   return s;
 }
 

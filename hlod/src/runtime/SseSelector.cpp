@@ -26,47 +26,24 @@ Selection SseSelector::select(const View& view, const Residency& residency) {
 
   // Load priority: the screen-space error, divided by (1 + c_vis) outside the frustum, so that
   // the loader fetches what would be refined first and what is just outside view next.
-  auto visit = [&](std::uint32_t n, bool visible) {
+  auto visit = [&](std::uint32_t n) {
+    const bool visible = frustum.intersects(nodes[n].bounds);
     const double sse = screenSpaceError(nodes[n], view, minDistance);
     s.loadPriorities.push_back({n, visible ? sse : sse / visWeight});
-    return sse;
+    return visible;
   };
 
   std::vector<std::uint32_t> queue;
   for (std::uint32_t r : skeleton_.roots) {
-    if (r >= nodes.size()) continue;
-    const bool visible = frustum.intersects(nodes[r].bounds);
-    visit(r, visible);
-    if (visible) queue.push_back(r);
+    if (r < nodes.size() && visit(r)) queue.push_back(r);
   }
-  std::vector<std::uint32_t> children;
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const std::uint32_t n = queue[head];
-    const NodeInfo& info = nodes[n];
-    const bool hasChildren = info.childCount > 0 && info.firstChild < nodes.size() &&
-                             info.childCount <= nodes.size() - info.firstChild;
-    if (!hasChildren || screenSpaceError(info, view, minDistance) <= params_.ssePixels) {
-      markDrawn(n, s);
-      continue;
-    }
-    children.clear();
-    bool allResident = true;
-    for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c) {
-      const bool visible = frustum.intersects(nodes[c].bounds);
-      visit(c, visible);
-      if (!visible) continue;
-      children.push_back(c);
-      allResident = allResident && residency.isResident(c);
-    }
-    if (!allResident) {
-      ++s.coarserBecauseNotResident;
-      markDrawn(n, s);
-      continue;
-    }
-    markRefined(n, s);
-    queue.insert(queue.end(), children.begin(), children.end());
-  }
-  finishFrame(s);
+  // Refine while the projected geometric error exceeds ssePixels.
+  walkFront(
+      std::move(queue), residency, s,
+      [&](std::uint32_t n) {
+        return screenSpaceError(nodes[n], view, minDistance) > params_.ssePixels;
+      },
+      visit, [](std::uint32_t, const std::vector<std::uint32_t>&) { return true; });
   return s;
 }
 
