@@ -26,8 +26,16 @@ class Simplifier {
   virtual ~Simplifier() = default;
   virtual const char* name() const = 0;
   // Simplifies toward targetTriangles (may stay above it when locked borders forbid more).
-  // mesh should be welded (weldVertices) so that only real borders and cuts are open.
-  virtual SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles) const = 0;
+  // mesh should be welded (weldVertices) so that only real borders and cuts are open. A mesh
+  // already at or below the target comes back unchanged.
+  SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles) const {
+    if (mesh.triangleCount() <= targetTriangles || mesh.positions.empty()) return {mesh};
+    return reduce(mesh, targetTriangles);
+  }
+
+ protected:
+  // The simplifier proper, for a non-empty mesh above the target.
+  virtual SimplifiedMesh reduce(const Mesh& mesh, std::size_t targetTriangles) const = 0;
 };
 
 // "meshopt" or "openmesh"; an Error naming the choices otherwise.

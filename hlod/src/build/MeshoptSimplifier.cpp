@@ -14,12 +14,8 @@ class MeshoptSimplifier final : public Simplifier {
  public:
   const char* name() const override { return "meshopt"; }
 
-  SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles) const override {
+  SimplifiedMesh reduce(const Mesh& mesh, std::size_t targetTriangles) const override {
     SimplifiedMesh out;
-    if (mesh.triangleCount() <= targetTriangles || mesh.positions.empty()) {
-      out.mesh = mesh;
-      return out;
-    }
     // meshopt works on floats: positions relative to the box centre keep their precision.
     const glm::dvec3 centre = mesh.bounds().centre();
     std::vector<float> pos(mesh.positions.size() * 3);

@@ -46,12 +46,8 @@ class OpenMeshSimplifier final : public Simplifier {
  public:
   const char* name() const override { return "openmesh"; }
 
-  SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles) const override {
+  SimplifiedMesh reduce(const Mesh& mesh, std::size_t targetTriangles) const override {
     SimplifiedMesh out;
-    if (mesh.triangleCount() <= targetTriangles || mesh.positions.empty()) {
-      out.mesh = mesh;
-      return out;
-    }
     const glm::dvec3 centre = mesh.bounds().centre();
     OmMesh om;
     OpenMesh::VPropHandleT<std::uint32_t> source;
