@@ -11,28 +11,15 @@
 #include <gtest/gtest.h>
 
 #include "GlTestScene.h"
+#include "RunHlodr.h"
 #include "hlod/Import.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Run hlodr(const std::string& args, const std::string& env = "") {
-  Run r;
-  const std::string cmd = env + " " + HLODR_BINARY + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+gltest::Run hlodr(const std::string& args, const std::string& env = "") {
+  return gltest::runHlodr(args, env);
 }
 
 class HlodrCli : public ::testing::Test {

@@ -1,5 +1,6 @@
 // PathSession on a real (software) GL context: a tiny node store built in the test from two
 // procedural city blocks, an orbit path, settled and realtime runs, and the CLI end to end.
+#include "RunHlodr.h"
 #include "service/PathSession.h"
 
 #include <sys/wait.h>
@@ -206,40 +207,20 @@ TEST_F(PathSessionTest, OpeningSomethingThatIsNotAStoreIsAClearError) {
   EXPECT_NE(t.message().find("unknown selector"), std::string::npos) << t.message();
 }
 
-namespace {
-
-struct Run {
-  int status = -1;
-  std::string output;
-};
-
-Run hlodr(const std::string& args) {
-  Run r;
-  const std::string cmd = std::string(HLODR_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-}  // namespace
+using gltest::runHlodr;
 
 TEST_F(PathSessionTest, CliWritesAPathAndRendersItToAnMp4) {
   if (std::system("command -v ffmpeg > /dev/null 2>&1") != 0) GTEST_SKIP() << "no ffmpeg";
   fs::create_directories(out);
   const std::string store = tinyStore().string();
   const std::string pathJson = (out / "orbit.json").string();
-  auto p = hlodr("path " + store + " --kind orbit --duration 2 -o " + pathJson);
+  auto p = runHlodr("path " + store + " --kind orbit --duration 2 -o " + pathJson);
   ASSERT_EQ(p.status, 0) << p.output;
   ASSERT_TRUE(hlod::CameraPath::read(pathJson).ok());
 
   const fs::path video = out / "orbit.mp4";
-  auto r = hlodr("render " + store + " --path " + pathJson + " -o " + video.string() +
-                 " --size 160x90 --fps 10 --frames 12 --mode settled --budget-ms 10 --plots");
+  auto r = runHlodr("render " + store + " --path " + pathJson + " -o " + video.string() +
+                    " --size 160x90 --fps 10 --frames 12 --mode settled --budget-ms 10 --plots");
   ASSERT_EQ(r.status, 0) << r.output;
   ASSERT_TRUE(fs::exists(video));
   EXPECT_GT(fs::file_size(video), 0u);
@@ -252,18 +233,18 @@ TEST_F(PathSessionTest, CliWritesAPathAndRendersItToAnMp4) {
 TEST_F(PathSessionTest, CliRejectsBadOptionsAndBadPaths) {
   fs::create_directories(out);
   const std::string store = tinyStore().string();
-  auto k = hlodr("path " + store + " --kind spiral -o " + (out / "p.json").string());
+  auto k = runHlodr("path " + store + " --kind spiral -o " + (out / "p.json").string());
   EXPECT_EQ(k.status, 2);
   EXPECT_NE(k.output.find("walk-fly"), std::string::npos) << k.output;
 
   std::ofstream(out / "bad.json") << "{\"keyframes\": [";
-  auto b = hlodr("render " + store + " --path " + (out / "bad.json").string() + " -o " +
-                 (out / "frames").string());
+  auto b = runHlodr("render " + store + " --path " + (out / "bad.json").string() + " -o " +
+                    (out / "frames").string());
   EXPECT_EQ(b.status, 1);
   EXPECT_NE(b.output.find("bad.json"), std::string::npos) << b.output;
 
-  auto m = hlodr("render " + store + " --path " + (out / "bad.json").string() + " -o " +
-                 (out / "frames").string() + " --mode sometimes");
+  auto m = runHlodr("render " + store + " --path " + (out / "bad.json").string() + " -o " +
+                    (out / "frames").string() + " --mode sometimes");
   EXPECT_EQ(m.status, 2);
   EXPECT_NE(m.output.find("--mode"), std::string::npos) << m.output;
 }
