@@ -149,6 +149,23 @@ TEST(CameraPathGenerators, WalkFlyStartsInAStreetAtEyeHeightAndEndsAboveTheModel
   EXPECT_LT(end.camera.forward().z, -0.3);  // looking down at the model
 }
 
+TEST(CameraPathGenerators, WalkFlyFindsAStreetWhereBlocksMeetAtItsCentreLine) {
+  // Blocks whose ground reaches the street's middle (as the procedural city's do) leave no gap:
+  // the street is the line where one box ends and the next begins.
+  Skeleton sk;
+  for (int i = 0; i < 4; ++i) {
+    NodeInfo n;
+    n.bounds.extend(glm::dvec3(i * 40.0, 0.0, 0.0));
+    n.bounds.extend(glm::dvec3(i * 40.0 + 40.0, 200.0, 20.0));
+    sk.roots.push_back(static_cast<std::uint32_t>(sk.nodes.size()));
+    sk.nodes.push_back(n);
+  }
+  auto path = makeWalkFlyPath(sk);
+  ASSERT_TRUE(path.ok()) << path.message();
+  // The street nearest the centre (x = 80), not the model's edge.
+  EXPECT_NEAR(path->sample(0.0).camera.position.x, 80.0, 1e-9);
+}
+
 TEST(CameraPathGenerators, DriveFollowsStreetsAtCarSpeed) {
   test::SyntheticCity c;
   c.blocksX = c.blocksY = 6;

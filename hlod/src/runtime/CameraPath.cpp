@@ -64,7 +64,9 @@ json toJson(const glm::dvec3& v) {
   return json::array({v.x, v.y, v.z});
 }
 
-// Merged [lo, hi] intervals of the block boxes along one axis; the gaps between them are streets.
+// Street centres along one axis: gaps between the merged [lo, hi] intervals of the block boxes,
+// and lines where one block's box ends exactly where another's begins (blocks whose ground
+// reaches the middle of the street, as the procedural city's do, meet there).
 std::vector<double> streetsAlong(const Skeleton& sk, int axis, double minGap) {
   std::vector<std::pair<double, double>> iv;
   for (std::uint32_t r : sk.roots) {
@@ -77,6 +79,17 @@ std::vector<double> streetsAlong(const Skeleton& sk, int axis, double minGap) {
   for (std::size_t i = 1; i < iv.size(); ++i) {
     if (iv[i].first - hi >= minGap) centres.push_back((iv[i].first + hi) * 0.5);
     hi = std::max(hi, iv[i].second);
+  }
+  if (!centres.empty()) return centres;
+  constexpr double kTouch = 0.05;  // metres
+  std::vector<double> ends;
+  for (const auto& a : iv) ends.push_back(a.second);
+  std::sort(ends.begin(), ends.end());
+  for (const auto& a : iv) {
+    const auto it = std::lower_bound(ends.begin(), ends.end(), a.first - kTouch);
+    if (it != ends.end() && *it <= a.first + kTouch &&
+        (centres.empty() || a.first - centres.back() > minGap))
+      centres.push_back(a.first);
   }
   return centres;
 }
