@@ -382,6 +382,11 @@ void ground(Builder& B, const BlockPlan& plan, const AtlasMap& A) {
     B.box({SA[i], -f.streetHalf, 0.0}, {SA[i + 1], -sw, 0.0}, kPosZ, uv);
   if (sa > s0) B.box({s0, -sw, 0.0}, {sa, D, 0.0}, kPosZ, uv);
   if (s1 > sb) B.box({sb, -sw, 0.0}, {s1, D, 0.0}, kPosZ, uv);
+  if (f.courtyardY1 > D && f.courtyardS1 > f.courtyardS0) {
+    // Paved like the sidewalk: its texture row at the building line, stretched.
+    const auto paved = [&](const glm::dvec3& q) { return uv({q.x, D, q.z}); };
+    B.box({f.courtyardS0, D, 0.0}, {f.courtyardS1, f.courtyardY1, h}, kPosZ, paved);
+  }
 }
 
 }  // namespace

@@ -203,6 +203,9 @@ BlockFrame blockFrame(std::uint64_t seed, int index) {
       f.endHi = stE / 2;
       f.endSidewalkLo = sidewalkWidth(stW);
       f.endSidewalkHi = sidewalkWidth(stE);
+      f.courtyardS0 = dW;
+      f.courtyardS1 = (x1 - x0) - dE;
+      f.courtyardY1 = (y1 - y0) - dN;
       break;
     case 1:  // east: faces +X
       f.origin = {x1, y0 + dS, 0};
