@@ -144,7 +144,7 @@ TEST(CityGenerator, BlocksAreStreetSidesAtRealWorldScale) {
     EXPECT_GT(length, 40.0) << i;
     EXPECT_LT(length, 300.0) << i;
     EXPECT_GT(depth, 14.0) << i;
-    EXPECT_LT(depth, 60.0) << i;
+    EXPECT_LT(depth, 100.0) << i;  // half street + buildings (+ half the courtyard east/west)
     EXPECT_NEAR(box.min.z, 0.0, 1e-9) << i;  // street level
     EXPECT_GT(box.max.z, 6.0) << i;          // at least one two-storey building
     EXPECT_LT(box.max.z, 120.0) << i;

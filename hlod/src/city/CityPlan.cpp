@@ -203,9 +203,6 @@ BlockFrame blockFrame(std::uint64_t seed, int index) {
       f.endHi = stE / 2;
       f.endSidewalkLo = sidewalkWidth(stW);
       f.endSidewalkHi = sidewalkWidth(stE);
-      f.courtyardS0 = dW;
-      f.courtyardS1 = (x1 - x0) - dE;
-      f.courtyardY1 = (y1 - y0) - dN;
       break;
     case 1:  // east: faces +X
       f.origin = {x1, y0 + dS, 0};
@@ -215,6 +212,8 @@ BlockFrame blockFrame(std::uint64_t seed, int index) {
       f.depth = dE;
       f.streetHalf = stE / 2;
       f.sidewalk = sidewalkWidth(stE);
+      f.courtyardS1 = f.length;
+      f.courtyardY1 = dE + 0.5 * ((x1 - x0) - dE - dW);
       break;
     case 2:  // north: faces +Y
       f.origin = {x1, y1, 0};
@@ -237,6 +236,8 @@ BlockFrame blockFrame(std::uint64_t seed, int index) {
       f.depth = dW;
       f.streetHalf = stW / 2;
       f.sidewalk = sidewalkWidth(stW);
+      f.courtyardS1 = f.length;
+      f.courtyardY1 = dW + 0.5 * ((x1 - x0) - dE - dW);
       break;
   }
   return f;

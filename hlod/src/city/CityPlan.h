@@ -56,8 +56,9 @@ struct BlockFrame {
   double endHi = 0.0;          // the middle of the side streets)
   double endSidewalkLo = 0.0;  // corner owners: the sidewalk reaches s in
   double endSidewalkHi = 0.0;  // [-endSidewalkLo, length + endSidewalkHi]
-  // The south block also paves the cell's courtyard, s in [courtyardS0, courtyardS1] and
-  // y in [depth, courtyardY1], so that from above no block shows the sky through its cell.
+  // The east and west blocks also pave their half of the cell's courtyard, s in
+  // [courtyardS0, courtyardS1] and y in [depth, courtyardY1], so that from above the sky does
+  // not show through a cell; block boxes still only touch, never overlap.
   double courtyardS0 = 0.0, courtyardS1 = 0.0, courtyardY1 = 0.0;
 
   glm::dvec3 toCity(const glm::dvec3& local) const {

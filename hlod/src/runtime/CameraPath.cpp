@@ -87,9 +87,13 @@ std::vector<double> streetsAlong(const Skeleton& sk, int axis, double minGap) {
   std::sort(ends.begin(), ends.end());
   for (const auto& a : iv) {
     const auto it = std::lower_bound(ends.begin(), ends.end(), a.first - kTouch);
-    if (it != ends.end() && *it <= a.first + kTouch &&
-        (centres.empty() || a.first - centres.back() > minGap))
-      centres.push_back(a.first);
+    if (it == ends.end() || *it > a.first + kTouch) continue;
+    if (!centres.empty() && a.first - centres.back() <= minGap) continue;
+    // A line some other block crosses (e.g. the middle of a cell's courtyard) is no street.
+    const bool crossed = std::any_of(iv.begin(), iv.end(), [&](const auto& b) {
+      return b.first < a.first - kTouch && b.second > a.first + kTouch;
+    });
+    if (!crossed) centres.push_back(a.first);
   }
   return centres;
 }
