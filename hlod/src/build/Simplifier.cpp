@@ -37,13 +37,19 @@ struct WeldKeyHash {
   }
 };
 
-}  // namespace
-
-Mesh weldVertices(const Mesh& mesh) {
+// A mesh with the material of `mesh` and no geometry.
+Mesh emptyLike(const Mesh& mesh) {
   Mesh out;
   out.name = mesh.name;
   out.baseColor = mesh.baseColor;
   out.texture = mesh.texture;
+  return out;
+}
+
+}  // namespace
+
+Mesh weldVertices(const Mesh& mesh) {
+  Mesh out = emptyLike(mesh);
   const std::size_t nv = mesh.positions.size();
   const bool hasN = mesh.normals.size() == nv;
   const bool hasUv = mesh.texCoords.size() == nv;
@@ -84,10 +90,7 @@ Mesh weldVertices(const Mesh& mesh) {
 }
 
 Mesh compactVertices(const Mesh& mesh) {
-  Mesh out;
-  out.name = mesh.name;
-  out.baseColor = mesh.baseColor;
-  out.texture = mesh.texture;
+  Mesh out = emptyLike(mesh);
   const std::size_t nv = mesh.positions.size();
   const bool hasN = mesh.normals.size() == nv;
   const bool hasUv = mesh.texCoords.size() == nv;

@@ -123,29 +123,10 @@ double loadAsDouble(const char* p, PlyType t, bool big) {
 }
 
 long long loadAsInteger(const char* p, PlyType t, bool big) {
-  switch (t) {
-    case PlyType::Int8:
-      return static_cast<std::int8_t>(*p);
-    case PlyType::UInt8:
-      return static_cast<std::uint8_t>(*p);
-    case PlyType::Int16:
-      return loadScalar<std::int16_t>(p, big);
-    case PlyType::UInt16:
-      return loadScalar<std::uint16_t>(p, big);
-    case PlyType::Int32:
-      return loadScalar<std::int32_t>(p, big);
-    case PlyType::UInt32:
-      return loadScalar<std::uint32_t>(p, big);
-    case PlyType::Float32: {
-      float f = loadScalar<float>(p, big);
-      return std::fabs(f) < 9e18f ? static_cast<long long>(f) : -1;
-    }
-    case PlyType::Float64: {
-      double d = loadAsDouble(p, t, big);
-      return std::isfinite(d) && std::fabs(d) < 9e18 ? static_cast<long long>(d) : -1;
-    }
-  }
-  return -1;
+  // Every PLY integer type fits a double exactly, so one reader serves both; a float count or
+  // index that is not finite or does not fit is -1 (rejected by the caller).
+  const double d = loadAsDouble(p, t, big);
+  return std::isfinite(d) && std::fabs(d) < 9e18 ? static_cast<long long>(d) : -1;
 }
 
 class PlyParser {
