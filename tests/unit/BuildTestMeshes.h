@@ -54,6 +54,36 @@ inline Mesh sphere(int rings, int sectors, double r = 1.0) {
   return m;
 }
 
+// An axis-aligned box from lo to hi: four vertices per face, each face its own normal and its own
+// texture rectangle (a sixth of the u range), as a facade atlas would give.
+inline Mesh box(const glm::dvec3& lo, const glm::dvec3& hi) {
+  Mesh m;
+  int face = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int positive = 0; positive < 2; ++positive, ++face) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      glm::dvec3 n(0.0);
+      n[axis] = positive ? 1.0 : -1.0;
+      const auto base = std::uint32_t(m.positions.size());
+      for (int k = 0; k < 4; ++k) {
+        glm::dvec3 p;
+        p[axis] = positive ? hi[axis] : lo[axis];
+        p[u] = (k == 1 || k == 2) ? hi[u] : lo[u];
+        p[v] = (k >= 2) ? hi[v] : lo[v];
+        m.positions.push_back(p);
+        m.normals.push_back(glm::vec3(n));
+        m.texCoords.emplace_back((float(face) + ((k == 1 || k == 2) ? 0.9f : 0.1f)) / 6.0f,
+                                 k >= 2 ? 0.9f : 0.1f);
+      }
+      // Wound counter-clockwise seen from outside.
+      if (positive)
+        m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+      else
+        m.indices.insert(m.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+    }
+  return m;
+}
+
 inline std::shared_ptr<const Image> checkerTexture(int w, int h) {
   auto img = std::make_shared<Image>();
   img->width = w;

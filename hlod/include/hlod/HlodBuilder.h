@@ -21,7 +21,9 @@
 #include <vector>
 
 #include "hlod/NodeStore.h"
+#include "hlod/PlaneSplit.h"
 #include "hlod/Preprocess.h"
+#include "hlod/SeamVertices.h"
 #include "hlod/Simplifier.h"
 
 namespace hlod {
@@ -47,17 +49,34 @@ struct BlockNode {
   double simplification = 0.0;    // the node's simplification factor (<= 1 at the leaves)
   int cutAxis = -1;               // the axis its children were cut along (-1 for a leaf)
   std::vector<double> cutPlanes;  // positions of those planes
+  std::vector<CutPlane> planes;  // the cutting planes that bound its piece (block's and ancestors')
+};
+
+// A block to build: its triangles and the planes it was cut from its neighbours along.
+struct Block {
+  Mesh mesh;
+  std::vector<CutPlane> planes;
 };
 
 // Builds the hierarchy of one block in memory (nodes in breadth-first order, the block root first;
 // children contiguous). The block is welded first (weldVertices). An empty block gives no nodes.
+// Vertices on the block's planes and on every cut are locked while simplifying; afterwards the
+// seam vertices of the block's own cuts and of neighbourSeams are inserted into every node's seam
+// edges (see SeamVertices), so no T-junction remains between any two nodes.
 std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions& options,
-                                           const Simplifier& simplifier);
+                                           const Simplifier& simplifier,
+                                           const std::vector<CutPlane>& blockPlanes = {},
+                                           const SeamVertices* neighbourSeams = nullptr);
+
+// The seam vertices buildBlockHierarchy would record for this block, found by making the same cuts
+// without simplifying (for blocks that share planes with others).
+SeamVertices planBlockSeams(const Mesh& block, const BuildOptions& options,
+                            const std::vector<CutPlane>& blockPlanes);
 
 // Cuts a model into blocks: meshes are grouped by material (texture and base colour, so every
 // block has one texture), each group is merged and split in halves along the longest axis of its
 // bounding box (triangles cut at the plane) until each block has at most maxTriangles triangles.
-std::vector<Mesh> cutIntoBlocks(const Model& model, std::size_t maxTriangles);
+std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles);
 
 // Crops a texture to the texel rectangle that texCoords (all in [0,1]) use, rewriting texCoords
 // to the crop, and box-filters it to about 1/sqrt(factor) of its side (at least kMinTextureSide
@@ -82,7 +101,10 @@ class HlodBuilder {
   static Result<std::unique_ptr<HlodBuilder>> create(const std::filesystem::path& dir,
                                                      const BuildOptions& options);
   // Builds the block's subtree and appends its payloads; the block can be freed afterwards.
-  Status addBlock(const Mesh& block);
+  // planes: those the block was cut along; neighbourSeams: seam vertices of the blocks sharing
+  // them (planBlockSeams).
+  Status addBlock(const Mesh& block, const std::vector<CutPlane>& planes = {},
+                  const SeamVertices* neighbourSeams = nullptr);
   // Writes the skeleton and moves the store into place.
   Result<Skeleton> finish(double buildSeconds);
   const Skeleton& skeleton() const { return skeleton_; }

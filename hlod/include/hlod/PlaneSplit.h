@@ -7,10 +7,22 @@
 // of the input. New vertices get interpolated normals and texture coordinates, and their
 // coordinate along the axis is exactly the plane's value, so both halves share them bit for bit.
 #include <utility>
+#include <vector>
 
 #include "hlod/Mesh.h"
 
 namespace hlod {
+
+// An axis-aligned cutting plane p[axis] == value.
+struct CutPlane {
+  int axis = 0;
+  double value = 0.0;
+  bool contains(const glm::dvec3& p) const { return p[axis] == value; }
+  bool operator<(const CutPlane& o) const {
+    return axis != o.axis ? axis < o.axis : value < o.value;
+  }
+  bool operator==(const CutPlane& o) const { return axis == o.axis && value == o.value; }
+};
 
 struct PlaneSplitResult {
   Mesh below;  // triangles with all vertices at or below the plane (p[axis] <= value)

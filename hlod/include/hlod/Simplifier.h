@@ -3,13 +3,17 @@
 // one interface: meshoptimizer's edge-collapse simplifier (default, "meshopt") and OpenMesh's
 // quadric decimater ("openmesh").
 //
-// Contract shared by both: vertices on open borders are locked (never removed or moved). The
-// builder's pieces are open along their cutting planes, so locking the border keeps every cut
-// vertex and neighbouring nodes meet exactly. Output vertices are copies of input vertices
-// (positions, normals and texture coordinates bit for bit); no vertex is moved.
+// Both simplify the shape only: the base class welds vertices by position (so texture seams and
+// the per-face corners of boxes do not pin the mesh), hands the implementation positions,
+// triangles and lock flags, and gives the kept triangles back their attributes by choosing, at
+// each corner, the input vertex at that position whose normal best matches the triangle (a box
+// face keeps its own texture coordinates). Locked vertices (the builder's cut vertices) are never
+// removed or moved, so neighbouring nodes meet exactly. Output vertices are copies of input
+// vertices (positions, normals and texture coordinates bit for bit); no vertex is moved.
 #include <cstddef>
 #include <memory>
 #include <string_view>
+#include <vector>
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
@@ -25,17 +29,26 @@ class Simplifier {
  public:
   virtual ~Simplifier() = default;
   virtual const char* name() const = 0;
-  // Simplifies toward targetTriangles (may stay above it when locked borders forbid more).
-  // mesh should be welded (weldVertices) so that only real borders and cuts are open. A mesh
-  // already at or below the target comes back unchanged.
-  SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles) const {
-    if (mesh.triangleCount() <= targetTriangles || mesh.positions.empty()) return {mesh};
-    return reduce(mesh, targetTriangles);
-  }
+  // Simplifies toward targetTriangles (may stay above it when locked vertices forbid more).
+  // locked holds one flag per vertex of mesh (or is empty: nothing locked); a position is locked
+  // when any vertex there is. A mesh already at or below the target comes back unchanged.
+  SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles,
+                          const std::vector<std::uint8_t>& locked = {}) const;
+
+  // What the implementations see: one vertex per distinct position.
+  struct Shape {
+    std::vector<glm::dvec3> positions;
+    std::vector<std::uint32_t> indices;  // no repeated vertex in a triangle
+    std::vector<std::uint8_t> locked;    // one flag per position
+  };
+  struct ReducedShape {
+    std::vector<std::uint32_t> indices;  // kept triangles, indices into Shape::positions
+    double geometricError = 0.0;         // world units
+  };
 
  protected:
-  // The simplifier proper, for a non-empty mesh above the target.
-  virtual SimplifiedMesh reduce(const Mesh& mesh, std::size_t targetTriangles) const = 0;
+  // The simplifier proper, for a non-empty shape above the target.
+  virtual ReducedShape reduce(const Shape& shape, std::size_t targetTriangles) const = 0;
 };
 
 // "meshopt" or "openmesh"; an Error naming the choices otherwise.

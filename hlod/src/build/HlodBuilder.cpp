@@ -20,19 +20,98 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
+namespace {
+
+// A node with factor s is split into children while s > 1 (and its piece has an extent to cut).
+bool isInner(double s, const Aabb& box) {
+  return s > 1.0 && box.size()[longestAxis(box)] > 0.0;
+}
+
+// The children of a piece: levelFactor slabs along its longest axis, each bounded by its parent's
+// planes and the slab planes on either side.
+struct Children {
+  SlabSplit slabs;
+  std::vector<std::vector<CutPlane>> planes;  // per slab
+};
+Children splitPiece(const Mesh& piece, const Aabb& box, const std::vector<CutPlane>& planes,
+                    int levelFactor) {
+  Children c;
+  c.slabs = splitIntoSlabs(piece, box, levelFactor);
+  for (std::size_t k = 0; k < c.slabs.pieces.size(); ++k) {
+    std::vector<CutPlane> own = planes;
+    if (k > 0) own.push_back({c.slabs.axis, c.slabs.planes[k - 1]});
+    if (k < c.slabs.planes.size()) own.push_back({c.slabs.axis, c.slabs.planes[k]});
+    c.planes.push_back(std::move(own));
+  }
+  return c;
+}
+
+// One flag per vertex: on one of the piece's bounding planes (a cut shared with a neighbour).
+std::vector<std::uint8_t> cutVertices(const Mesh& piece, const std::vector<CutPlane>& planes) {
+  std::vector<std::uint8_t> locked(piece.positions.size(), 0);
+  for (std::size_t v = 0; v < piece.positions.size(); ++v)
+    for (const CutPlane& plane : planes)
+      if (plane.contains(piece.positions[v])) locked[v] = 1;
+  return locked;
+}
+
+int clampedLevelFactor(const BuildOptions& options) {
+  return std::max(2, options.levelFactor);
+}
+
+double rootSimplification(const Mesh& welded, const BuildOptions& options) {
+  return double(welded.triangleCount()) / std::max<std::uint32_t>(1, options.desiredTri);
+}
+
+}  // namespace
+
+SeamVertices planBlockSeams(const Mesh& block, const BuildOptions& options,
+                            const std::vector<CutPlane>& blockPlanes) {
+  // The same cuts as buildBlockHierarchy, without simplifying: only the seam vertices are kept.
+  SeamVertices seams;
+  struct Pending {
+    Mesh piece;
+    std::vector<CutPlane> planes;
+    double s;
+  };
+  Mesh welded = weldVertices(block);
+  if (welded.triangleCount() == 0) return seams;
+  std::vector<Pending> stack;
+  const double s0 = rootSimplification(welded, options);
+  stack.push_back({std::move(welded), blockPlanes, s0});
+  while (!stack.empty()) {
+    Pending p = std::move(stack.back());
+    stack.pop_back();
+    seams.collect(p.piece, p.planes);
+    const Aabb box = p.piece.bounds();
+    if (!isInner(p.s, box)) continue;
+    Children c = splitPiece(p.piece, box, p.planes, clampedLevelFactor(options));
+    for (std::size_t k = 0; k < c.slabs.pieces.size(); ++k) {
+      if (c.slabs.pieces[k].triangleCount() == 0) continue;
+      stack.push_back({std::move(c.slabs.pieces[k]), std::move(c.planes[k]),
+                       p.s / double(clampedLevelFactor(options))});
+    }
+  }
+  return seams;
+}
+
 std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions& options,
-                                           const Simplifier& simplifier) {
+                                           const Simplifier& simplifier,
+                                           const std::vector<CutPlane>& blockPlanes,
+                                           const SeamVertices* neighbourSeams) {
   std::vector<BlockNode> nodes;
   Mesh welded = weldVertices(block);
   if (welded.triangleCount() == 0) return nodes;
-  const int levelFactor = std::max(2, options.levelFactor);
-  const double desiredTri = std::max<std::uint32_t>(1, options.desiredTri);
+  const int levelFactor = clampedLevelFactor(options);
+  SeamVertices seams;
+  if (neighbourSeams) seams.merge(*neighbourSeams);
 
   // Pieces waiting to become nodes: their original (cut, unsimplified) triangles.
   std::vector<Mesh> pieces;
   nodes.emplace_back();
   nodes[0].info.parent = kNoNode;
-  nodes[0].simplification = double(welded.triangleCount()) / desiredTri;  // s_hlod0
+  nodes[0].simplification = rootSimplification(welded, options);  // s_hlod0
+  nodes[0].planes = blockPlanes;
   pieces.push_back(std::move(welded));
 
   for (std::size_t i = 0; i < nodes.size(); ++i) {
@@ -42,27 +121,29 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
     const Aabb box = piece.bounds();
     nodes[i].info.bounds = box;
     nodes[i].info.centre = box.centre();
-    const bool inner = s > 1.0 && box.size()[longestAxis(box)] > 0.0;
-    if (inner) {
+    seams.collect(piece, nodes[i].planes);
+    if (isInner(s, box)) {
       const auto target =
           std::max<std::size_t>(1, std::size_t(std::llround(double(piece.triangleCount()) / s)));
-      SimplifiedMesh simplified = simplifier.simplify(piece, target);
+      SimplifiedMesh simplified =
+          simplifier.simplify(piece, target, cutVertices(piece, nodes[i].planes));
       nodes[i].mesh = std::move(simplified.mesh);
       nodes[i].info.geometricError = simplified.geometricError;
       // Children: levelFactor slabs of the piece's original triangles, s_{d+1} = s_d / levelFactor.
-      SlabSplit slabs = splitIntoSlabs(piece, box, levelFactor);
-      nodes[i].cutAxis = slabs.axis;
-      nodes[i].cutPlanes = slabs.planes;
+      Children c = splitPiece(piece, box, nodes[i].planes, levelFactor);
+      nodes[i].cutAxis = c.slabs.axis;
+      nodes[i].cutPlanes = c.slabs.planes;
       piece = Mesh{};
       nodes[i].info.firstChild = std::uint32_t(nodes.size());
-      for (Mesh& child : slabs.pieces) {
-        if (child.triangleCount() == 0) continue;  // an empty slab is no node
+      for (std::size_t k = 0; k < c.slabs.pieces.size(); ++k) {
+        if (c.slabs.pieces[k].triangleCount() == 0) continue;  // an empty slab is no node
         BlockNode n;
         n.info.parent = std::uint32_t(i);
         n.info.level = nodes[i].info.level + 1;
         n.simplification = s / double(levelFactor);
+        n.planes = std::move(c.planes[k]);
         nodes.push_back(std::move(n));
-        pieces.push_back(std::move(child));
+        pieces.push_back(std::move(c.slabs.pieces[k]));
         ++nodes[i].info.childCount;
       }
     } else {
@@ -70,6 +151,8 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
       nodes[i].info.geometricError = 0.0;
     }
   }
+  // Every node gets the seam vertices its neighbours (finer, or under other parents) have.
+  for (BlockNode& n : nodes) seams.insertInto(n.mesh, n.planes);
   // A parent is never more accurate than its children: make the error monotone, bottom up.
   for (std::size_t i = nodes.size(); i-- > 1;) {
     auto& parent = nodes[nodes[i].info.parent].info;
@@ -103,25 +186,28 @@ void appendMesh(Mesh& dst, const Mesh& src) {
   for (std::uint32_t i : src.indices) dst.indices.push_back(base + i);
 }
 
-void splitUntilSmall(Mesh mesh, std::size_t maxTriangles, int depth, std::vector<Mesh>& out) {
+void splitUntilSmall(Mesh mesh, std::vector<CutPlane> planes, std::size_t maxTriangles, int depth,
+                     std::vector<Block>& out) {
   const Aabb box = mesh.bounds();
   const int axis = longestAxis(box);
   // Depth bound: triangles piled at one point cannot be separated by any plane.
   if (mesh.triangleCount() <= maxTriangles || depth >= 48 || !(box.size()[axis] > 0.0)) {
-    out.push_back(std::move(mesh));
+    out.push_back({std::move(mesh), std::move(planes)});
     return;
   }
-  PlaneSplitResult halves = splitByPlane(mesh, axis, box.centre()[axis]);
+  const CutPlane cut{axis, box.centre()[axis]};
+  PlaneSplitResult halves = splitByPlane(mesh, axis, cut.value);
   mesh = Mesh{};
+  planes.push_back(cut);
   if (halves.below.triangleCount() > 0)
-    splitUntilSmall(std::move(halves.below), maxTriangles, depth + 1, out);
+    splitUntilSmall(std::move(halves.below), planes, maxTriangles, depth + 1, out);
   if (halves.above.triangleCount() > 0)
-    splitUntilSmall(std::move(halves.above), maxTriangles, depth + 1, out);
+    splitUntilSmall(std::move(halves.above), std::move(planes), maxTriangles, depth + 1, out);
 }
 
 }  // namespace
 
-std::vector<Mesh> cutIntoBlocks(const Model& model, std::size_t maxTriangles) {
+std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles) {
   // One texture per node payload: group meshes by material first.
   std::map<MaterialKey, Mesh> groups;
   for (const Mesh& m : model.meshes) {
@@ -136,12 +222,12 @@ std::vector<Mesh> cutIntoBlocks(const Model& model, std::size_t maxTriangles) {
     }
     appendMesh(it->second, m);
   }
-  std::vector<Mesh> blocks;
+  std::vector<Block> blocks;
   for (auto& [key, mesh] : groups) {
-    std::vector<Mesh> parts;
-    splitUntilSmall(weldVertices(mesh), std::max<std::size_t>(1, maxTriangles), 0, parts);
+    std::vector<Block> parts;
+    splitUntilSmall(weldVertices(mesh), {}, std::max<std::size_t>(1, maxTriangles), 0, parts);
     for (std::size_t i = 0; i < parts.size(); ++i) {
-      if (parts.size() > 1) parts[i].name = mesh.name + "#" + std::to_string(i);
+      if (parts.size() > 1) parts[i].mesh.name = mesh.name + "#" + std::to_string(i);
       blocks.push_back(std::move(parts[i]));
     }
   }
@@ -237,9 +323,11 @@ Result<std::unique_ptr<HlodBuilder>> HlodBuilder::create(const std::filesystem::
   return b;
 }
 
-Status HlodBuilder::addBlock(const Mesh& block) {
+Status HlodBuilder::addBlock(const Mesh& block, const std::vector<CutPlane>& planes,
+                             const SeamVertices* neighbourSeams) {
   inputTriangles_ += block.triangleCount();
-  std::vector<BlockNode> local = buildBlockHierarchy(block, options_, *simplifier_);
+  std::vector<BlockNode> local =
+      buildBlockHierarchy(block, options_, *simplifier_, planes, neighbourSeams);
   if (local.empty()) return Ok{};
   if (skeleton_.nodes.size() + local.size() >= kNoNode) return makeError("too many nodes");
   const auto base = std::uint32_t(skeleton_.nodes.size());
@@ -280,18 +368,32 @@ Result<Skeleton> HlodBuilder::finish(double buildSeconds) {
   return skeleton_;
 }
 
+namespace {
+
+// Blocks cut from one mesh share planes: each block's nodes need the seam vertices that the cuts
+// inside its neighbours put on those planes.
+SeamVertices planSeams(const std::vector<Block>& blocks, const BuildOptions& options) {
+  SeamVertices all;
+  if (blocks.size() < 2) return all;
+  for (const Block& b : blocks) all.merge(planBlockSeams(b.mesh, options, b.planes));
+  return all;
+}
+
+}  // namespace
+
 Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::path& dir,
                                      const BuildOptions& options, const BuildProgressFn& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   auto builder = HlodBuilder::create(dir, options);
   if (!builder) return builder.error();
-  std::vector<Mesh> blocks = cutIntoBlocks(model, options.maxBlockTriangles);
+  std::vector<Block> blocks = cutIntoBlocks(model, options.maxBlockTriangles);
   BuildProgress p;
   p.blockCount = blocks.size();
-  for (Mesh& block : blocks) {
-    if (auto s = (*builder)->addBlock(block); !s) return s.error();
-    p.trianglesDone += block.triangleCount();
-    block = Mesh{};
+  const SeamVertices seams = planSeams(blocks, options);
+  for (Block& block : blocks) {
+    if (auto s = (*builder)->addBlock(block.mesh, block.planes, &seams); !s) return s.error();
+    p.trianglesDone += block.mesh.triangleCount();
+    block = Block{};
     ++p.blocksDone;
     p.seconds = secondsSince(t0);
     if (progress) progress(p);
@@ -316,9 +418,11 @@ Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
     // A city block is one texture already; split only blocks over the bound.
     Model one;
     one.meshes.push_back(std::move(*block));
-    for (const Mesh& part : cutIntoBlocks(one, options.maxBlockTriangles)) {
-      if (auto s = (*builder)->addBlock(part); !s) return s.error();
-      p.trianglesDone += part.triangleCount();
+    const std::vector<Block> parts = cutIntoBlocks(one, options.maxBlockTriangles);
+    const SeamVertices seams = planSeams(parts, options);
+    for (const Block& part : parts) {
+      if (auto s = (*builder)->addBlock(part.mesh, part.planes, &seams); !s) return s.error();
+      p.trianglesDone += part.mesh.triangleCount();
     }
     ++p.blocksDone;
     p.seconds = secondsSince(t0);

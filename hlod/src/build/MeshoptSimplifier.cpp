@@ -14,30 +14,35 @@ class MeshoptSimplifier final : public Simplifier {
  public:
   const char* name() const override { return "meshopt"; }
 
-  SimplifiedMesh reduce(const Mesh& mesh, std::size_t targetTriangles) const override {
-    SimplifiedMesh out;
+  ReducedShape reduce(const Shape& shape, std::size_t targetTriangles) const override {
     // meshopt works on floats: positions relative to the box centre keep their precision.
-    const glm::dvec3 centre = mesh.bounds().centre();
-    std::vector<float> pos(mesh.positions.size() * 3);
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-      const glm::dvec3 p = mesh.positions[i] - centre;
-      pos[3 * i] = float(p.x);
-      pos[3 * i + 1] = float(p.y);
-      pos[3 * i + 2] = float(p.z);
+    Aabb box;
+    for (const auto& p : shape.positions) box.extend(p);
+    const glm::dvec3 centre = box.centre();
+    std::vector<float> pos;
+    pos.reserve(shape.positions.size() * 3);
+    auto push = [&](const glm::dvec3& q) {
+      const glm::dvec3 p = q - centre;
+      pos.insert(pos.end(), {float(p.x), float(p.y), float(p.z)});
+    };
+    for (const auto& p : shape.positions) push(p);
+    // meshopt 0.18 has no per-vertex lock, but it never moves or removes a vertex that has three
+    // or more attribute "wedges" (vertices at its position). Two unreferenced copies of each
+    // locked vertex make it one; they take no part in any triangle.
+    for (std::size_t v = 0; v < shape.positions.size(); ++v) {
+      if (!shape.locked[v]) continue;
+      push(shape.positions[v]);
+      push(shape.positions[v]);
     }
-    // meshopt_simplify finds vertices sharing a position itself and keeps texture seams
-    // (same position, different uv) intact, so the index buffer can be passed as it is.
-    // LockBorder keeps every vertex on an open edge: the cuts between nodes.
-    std::vector<std::uint32_t> dst(mesh.indices.size());
+    const std::size_t vertexCount = pos.size() / 3;
+    ReducedShape out;
+    out.indices.resize(shape.indices.size());
     float relError = 0.0f;
-    const std::size_t n = meshopt_simplify(
-        dst.data(), mesh.indices.data(), mesh.indices.size(), pos.data(), mesh.positions.size(),
-        sizeof(float) * 3, targetTriangles * 3, 1.0f, meshopt_SimplifyLockBorder, &relError);
-    dst.resize(n);
-    const float scale = meshopt_simplifyScale(pos.data(), mesh.positions.size(), sizeof(float) * 3);
-    Mesh kept = mesh;
-    kept.indices = std::move(dst);
-    out.mesh = compactVertices(kept);
+    const std::size_t n =
+        meshopt_simplify(out.indices.data(), shape.indices.data(), shape.indices.size(), pos.data(),
+                         vertexCount, sizeof(float) * 3, targetTriangles * 3, 1.0f, 0, &relError);
+    out.indices.resize(n);
+    const float scale = meshopt_simplifyScale(pos.data(), vertexCount, sizeof(float) * 3);
     out.geometricError = double(relError) * double(scale);
     return out;
   }

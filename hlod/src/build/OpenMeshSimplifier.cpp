@@ -46,28 +46,27 @@ class OpenMeshSimplifier final : public Simplifier {
  public:
   const char* name() const override { return "openmesh"; }
 
-  SimplifiedMesh reduce(const Mesh& mesh, std::size_t targetTriangles) const override {
-    SimplifiedMesh out;
-    const glm::dvec3 centre = mesh.bounds().centre();
+  ReducedShape reduce(const Shape& shape, std::size_t targetTriangles) const override {
+    ReducedShape out;
+    Aabb box;
+    for (const auto& p : shape.positions) box.extend(p);
+    const glm::dvec3 centre = box.centre();
     OmMesh om;
     OpenMesh::VPropHandleT<std::uint32_t> source;
     om.add_property(source);
-    std::vector<OmMesh::VertexHandle> vh(mesh.positions.size());
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-      const glm::dvec3 p = mesh.positions[i] - centre;
+    std::vector<OmMesh::VertexHandle> vh(shape.positions.size());
+    for (std::size_t i = 0; i < shape.positions.size(); ++i) {
+      const glm::dvec3 p = shape.positions[i] - centre;
       vh[i] = om.add_vertex(OmMesh::Point(p.x, p.y, p.z));
       om.property(source, vh[i]) = std::uint32_t(i);
+      if (shape.locked[i]) om.status(vh[i]).set_locked(true);
     }
     // Triangles OpenMesh rejects (non-manifold) are kept as they are, beside the decimated mesh.
     std::vector<std::uint32_t> rejected;
-    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-      const auto a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+    for (std::size_t t = 0; t + 2 < shape.indices.size(); t += 3) {
+      const auto a = shape.indices[t], b = shape.indices[t + 1], c = shape.indices[t + 2];
       if (!om.add_face(vh[a], vh[b], vh[c]).is_valid()) rejected.insert(rejected.end(), {a, b, c});
     }
-    // Lock the border: the cuts to neighbouring nodes (and texture seams, which are open edges
-    // after welding on position and uv) must not move.
-    for (auto v : om.vertices())
-      if (om.is_boundary(v)) om.status(v).set_locked(true);
     om.update_face_normals();
 
     OpenMesh::Decimater::DecimaterT<OmMesh> decimater(om);
@@ -76,7 +75,7 @@ class OpenMeshSimplifier final : public Simplifier {
     decimater.add(quadric);
     decimater.add(flipping);
     if (!decimater.initialize()) {
-      out.mesh = mesh;
+      out.indices = shape.indices;
       return out;
     }
     const std::size_t keptFaces =
@@ -84,14 +83,10 @@ class OpenMeshSimplifier final : public Simplifier {
     decimater.decimate_to_faces(0, keptFaces);
     out.geometricError = std::sqrt(std::max(0.0, decimater.module(quadric).maxError()));
     om.garbage_collection();
-
-    Mesh kept = mesh;
-    kept.indices.clear();
     for (auto f : om.faces()) {
-      for (auto v : om.fv_range(f)) kept.indices.push_back(om.property(source, v));
+      for (auto v : om.fv_range(f)) out.indices.push_back(om.property(source, v));
     }
-    kept.indices.insert(kept.indices.end(), rejected.begin(), rejected.end());
-    out.mesh = compactVertices(kept);
+    out.indices.insert(out.indices.end(), rejected.begin(), rejected.end());
     return out;
   }
 };

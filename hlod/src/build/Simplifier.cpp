@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <unordered_map>
 
@@ -46,7 +47,125 @@ Mesh emptyLike(const Mesh& mesh) {
   return out;
 }
 
+// Exact position key (-0.0 and 0.0 equal), for welding by position alone.
+struct PosKeyHash {
+  std::size_t operator()(const glm::dvec3& p) const {
+    unsigned char bytes[sizeof p];
+    std::memcpy(bytes, &p, sizeof p);
+    std::uint64_t h = 1469598103934665603ull;
+    for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
+    return std::size_t(h);
+  }
+};
+
+glm::dvec3 triangleNormal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const glm::dvec3 n = glm::cross(b - a, c - a);
+  const double len = glm::length(n);
+  return len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
+}
+
 }  // namespace
+
+SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangles,
+                                    const std::vector<std::uint8_t>& locked) const {
+  if (mesh.triangleCount() <= targetTriangles || mesh.positions.empty()) return {mesh};
+  const std::size_t nv = mesh.positions.size();
+  // Weld by position: shapeOf[v] is the shape vertex of input vertex v.
+  Shape shape;
+  std::vector<std::uint32_t> shapeOf(nv);
+  {
+    std::unordered_map<glm::dvec3, std::uint32_t, PosKeyHash> map;
+    map.reserve(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+      auto [it, fresh] = map.try_emplace(mesh.positions[v] + glm::dvec3(0.0),
+                                         std::uint32_t(shape.positions.size()));
+      if (fresh) {
+        shape.positions.push_back(mesh.positions[v]);
+        shape.locked.push_back(0);
+      }
+      shapeOf[v] = it->second;
+      if (v < locked.size() && locked[v]) shape.locked[it->second] = 1;
+    }
+  }
+  // Each input vertex's normal: its own, or the area-weighted normal of its triangles.
+  std::vector<glm::dvec3> vertexNormal(nv, glm::dvec3(0.0));
+  const bool hasN = mesh.normals.size() == nv;
+  for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const auto a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
+    if (a >= nv || b >= nv || c >= nv) continue;
+    const auto sa = shapeOf[a], sb = shapeOf[b], sc = shapeOf[c];
+    if (sa == sb || sb == sc || sa == sc) continue;
+    shape.indices.insert(shape.indices.end(), {sa, sb, sc});
+    if (!hasN) {
+      const glm::dvec3 n =
+          glm::cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
+      if (std::isfinite(n.x + n.y + n.z)) {
+        for (auto v : {a, b, c}) vertexNormal[v] += n;
+      }
+    }
+  }
+  for (std::size_t v = 0; v < nv; ++v) {
+    const glm::dvec3 n = hasN ? glm::dvec3(mesh.normals[v]) : vertexNormal[v];
+    const double len = glm::length(n);
+    vertexNormal[v] = len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
+  }
+  // wedges[firstWedge[s] .. firstWedge[s+1]) are the input vertices at shape vertex s.
+  std::vector<std::uint32_t> firstWedge(shape.positions.size() + 1, 0), wedges(nv);
+  for (std::size_t v = 0; v < nv; ++v) ++firstWedge[shapeOf[v] + 1];
+  for (std::size_t s = 0; s < shape.positions.size(); ++s) firstWedge[s + 1] += firstWedge[s];
+  {
+    std::vector<std::uint32_t> fill(firstWedge.begin(), firstWedge.end() - 1);
+    for (std::size_t v = 0; v < nv; ++v) wedges[fill[shapeOf[v]]++] = std::uint32_t(v);
+  }
+
+  ReducedShape reduced = reduce(shape, targetTriangles);
+
+  // Attributes back: per corner, the wedge whose normal best matches the kept triangle; among
+  // equally good wedges (a flat texture seam) the one whose texture coordinate lies nearest the
+  // triangle's other corners, so that a triangle does not span two atlas regions.
+  const bool hasUv = mesh.texCoords.size() == nv;
+  Mesh kept = mesh;
+  kept.indices.clear();
+  kept.indices.reserve(reduced.indices.size());
+  std::vector<std::uint32_t> candidates[3];
+  for (std::size_t i = 0; i + 2 < reduced.indices.size(); i += 3) {
+    const std::uint32_t s[3] = {reduced.indices[i], reduced.indices[i + 1], reduced.indices[i + 2]};
+    const glm::dvec3 n =
+        triangleNormal(shape.positions[s[0]], shape.positions[s[1]], shape.positions[s[2]]);
+    std::uint32_t chosen[3];
+    bool ambiguous = false;
+    for (int k = 0; k < 3; ++k) {
+      candidates[k].clear();
+      double best = -2.0;
+      for (std::uint32_t w = firstWedge[s[k]]; w < firstWedge[s[k] + 1]; ++w)
+        best = std::max(best, glm::dot(vertexNormal[wedges[w]], n));
+      for (std::uint32_t w = firstWedge[s[k]]; w < firstWedge[s[k] + 1]; ++w)
+        if (glm::dot(vertexNormal[wedges[w]], n) >= best - 1e-3) candidates[k].push_back(wedges[w]);
+      chosen[k] = candidates[k].front();
+      ambiguous = ambiguous || candidates[k].size() > 1;
+    }
+    if (ambiguous && hasUv) {
+      // Two rounds: each corner moves to the candidate nearest the others' current choice.
+      for (int round = 0; round < 2; ++round) {
+        for (int k = 0; k < 3; ++k) {
+          if (candidates[k].size() < 2) continue;
+          const glm::vec2 ref =
+              0.5f * (mesh.texCoords[chosen[(k + 1) % 3]] + mesh.texCoords[chosen[(k + 2) % 3]]);
+          float bestDist = std::numeric_limits<float>::max();
+          for (std::uint32_t w : candidates[k]) {
+            const glm::vec2 d = mesh.texCoords[w] - ref;
+            if (glm::dot(d, d) < bestDist) bestDist = glm::dot(d, d), chosen[k] = w;
+          }
+        }
+      }
+    }
+    kept.indices.insert(kept.indices.end(), {chosen[0], chosen[1], chosen[2]});
+  }
+  SimplifiedMesh out;
+  out.mesh = compactVertices(kept);
+  out.geometricError = reduced.geometricError;
+  return out;
+}
 
 Mesh weldVertices(const Mesh& mesh) {
   Mesh out = emptyLike(mesh);
