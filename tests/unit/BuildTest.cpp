@@ -322,9 +322,10 @@ TEST_P(BuildHierarchy, GeometricErrorIsMonotoneAndZeroAtLeaves) {
   const auto nodes = buildBlockHierarchy(testmesh::sphere(60, 80, 5.0), o, **simplifier);
   ASSERT_GT(nodes.size(), 4u);
   EXPECT_GT(nodes[0].info.geometricError, 0.0);
-  // meshopt's error is a distance; OpenMesh's (sqrt of a summed quadric) is a loose upper bound.
+  // meshopt's error is a quadric distance estimate (loose for slabs pinned at both cut rims);
+  // OpenMesh's (sqrt of a summed quadric) is a looser upper bound still.
   if (std::string(GetParam()) == "meshopt") {
-    EXPECT_LT(nodes[0].info.geometricError, 5.0);
+    EXPECT_LT(nodes[0].info.geometricError, 10.0);  // the sphere's diameter
   }
   for (std::size_t i = 1; i < nodes.size(); ++i)
     EXPECT_GE(nodes[nodes[i].info.parent].info.geometricError, nodes[i].info.geometricError);
@@ -500,6 +501,30 @@ TEST_P(BuildSimplifier, RemovesClosedBoxesWhoseFacesHaveTheirOwnTextureCoordinat
   EXPECT_LE(s.mesh.triangleCount(), 800u);
   // Kept triangles take a vertex whose normal matches them: for an unsimplified box face, its own.
   ASSERT_EQ(s.mesh.normals.size(), s.mesh.positions.size());
+}
+
+TEST_P(BuildSimplifier, BoxesTouchingASurfaceAtOneCornerDoNotPinIt) {
+  // Each small box shares one corner position with a grid vertex: a non-manifold vertex, which
+  // an edge collapser must freeze unless the simplifier splits it into its two fans.
+  auto simplifier = makeSimplifier(GetParam());
+  ASSERT_TRUE(simplifier);
+  Mesh m = weldVertices(testmesh::wavyGrid(30));
+  const std::size_t gridVertices = m.positions.size();
+  for (std::size_t v = 0; v < gridVertices; v += 3) {
+    const glm::dvec3 lo = m.positions[v];
+    const Mesh b = testmesh::box(lo, lo + glm::dvec3(0.05, 0.05, 0.4));
+    const auto base = std::uint32_t(m.positions.size());
+    m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
+    m.normals.resize(base, glm::vec3(0, 0, 1));
+    m.normals.insert(m.normals.end(), b.normals.begin(), b.normals.end());
+    m.texCoords.insert(m.texCoords.end(), b.texCoords.begin(), b.texCoords.end());
+    for (auto idx : b.indices) m.indices.push_back(base + idx);
+  }
+  m = weldVertices(m);
+  ASSERT_GT(m.triangleCount(), 5000u);
+  const SimplifiedMesh s = (*simplifier)->simplify(m, 400);
+  EXPECT_LE(s.mesh.triangleCount(), 500u);
+  EXPECT_GT(s.mesh.triangleCount(), 100u);
 }
 
 TEST_P(BuildSimplifier, KeepsTextureCoordinatesOfTheVerticesItKeeps) {

@@ -1,5 +1,7 @@
 // Simplification with meshoptimizer's meshopt_simplify (edge collapses driven by quadrics).
+#include <algorithm>
 #include <cfloat>
+#include <unordered_map>
 #include <vector>
 
 #include <meshoptimizer.h>
@@ -9,6 +11,13 @@
 namespace hlod {
 
 namespace {
+
+struct PositionHash {
+  std::size_t operator()(const glm::dvec3& p) const {
+    const std::hash<double> h;
+    return h(p.x) ^ (h(p.y) * 31) ^ (h(p.z) * 1000003);
+  }
+};
 
 class MeshoptSimplifier final : public Simplifier {
  public:
@@ -25,7 +34,12 @@ class MeshoptSimplifier final : public Simplifier {
       const glm::dvec3 p = q - centre;
       pos.insert(pos.end(), {float(p.x), float(p.y), float(p.z)});
     };
-    for (const auto& p : shape.positions) push(p);
+    // Split non-manifold vertices share a position, and meshopt would take them for attribute
+    // wedges of one vertex again: move each further copy by a few micro-extents.
+    const double nudge = 1e-6 * std::max(1e-9, glm::length(box.size()));
+    std::unordered_map<glm::dvec3, int, PositionHash> copies;
+    for (const auto& p : shape.positions)
+      push(p + nudge * double(copies[p]++) * glm::dvec3(1.0, 0.7, 0.3));
     // meshopt 0.18 has no per-vertex lock, but it never moves or removes a vertex that has three
     // or more attribute "wedges" (vertices at its position). Two unreferenced copies of each
     // locked vertex make it one; they take no part in any triangle.

@@ -1,8 +1,11 @@
 #include "hlod/Simplifier.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numeric>
 #include <string>
 #include <unordered_map>
 
@@ -64,39 +67,116 @@ glm::dvec3 triangleNormal(const glm::dvec3& a, const glm::dvec3& b, const glm::d
   return len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
 }
 
+// The triangles left when every unlocked vertex moves to a representative of its cell in a grid
+// of `cells` cells along the longest side (locked vertices stay). Degenerate and repeated
+// triangles go. The representative is the cell's vertex nearest the cell's mean position.
+Simplifier::ReducedShape clusterOnGrid(const Simplifier::Shape& shape,
+                                       const std::vector<std::uint32_t>& indices, int cells) {
+  Aabb box;
+  for (std::uint32_t v : indices) box.extend(shape.positions[v]);
+  const glm::dvec3 size = box.size();
+  const double cell = std::max({size.x, size.y, size.z}) / cells;
+  std::unordered_map<std::uint64_t, std::uint32_t> cellIndex;
+  std::vector<std::uint32_t> cellOf(shape.positions.size(), 0xffffffffu);
+  std::vector<glm::dvec3> sum;
+  std::vector<std::uint32_t> count;
+  for (std::uint32_t v : indices) {
+    if (cellOf[v] != 0xffffffffu) continue;
+    std::uint64_t key;
+    if (shape.locked[v]) {
+      key = (1ull << 63) | v;  // a cell of its own
+    } else {
+      const glm::dvec3 q = (shape.positions[v] - box.min) / cell;
+      auto c = [&](double x) { return std::uint64_t(std::clamp(x, 0.0, double(cells - 1))); };
+      key = (c(q.x) << 42) | (c(q.y) << 21) | c(q.z);
+    }
+    auto [it, fresh] = cellIndex.try_emplace(key, std::uint32_t(sum.size()));
+    if (fresh) sum.emplace_back(0.0), count.push_back(0);
+    cellOf[v] = it->second;
+    sum[it->second] += shape.positions[v];
+    ++count[it->second];
+  }
+  std::vector<std::uint32_t> rep(sum.size(), 0xffffffffu);
+  std::vector<double> repDist(sum.size(), std::numeric_limits<double>::max());
+  for (std::uint32_t v : indices) {
+    const std::uint32_t c = cellOf[v];
+    const double d = glm::length(shape.positions[v] - sum[c] / double(count[c]));
+    if (d < repDist[c] || (d == repDist[c] && v < rep[c])) repDist[c] = d, rep[c] = v;
+  }
+  Simplifier::ReducedShape out;
+  std::unordered_map<std::uint64_t, bool> seen;  // triangles as sorted cell triples
+  for (std::size_t i = 0; i + 2 < indices.size(); i += 3) {
+    std::uint32_t c[3] = {cellOf[indices[i]], cellOf[indices[i + 1]], cellOf[indices[i + 2]]};
+    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
+    std::uint32_t s[3] = {c[0], c[1], c[2]};
+    std::sort(s, s + 3);
+    const std::uint64_t key = (std::uint64_t(s[0]) << 42) ^ (std::uint64_t(s[1]) << 21) ^ s[2];
+    if (!seen.try_emplace(key, true).second) continue;
+    out.indices.insert(out.indices.end(), {rep[c[0]], rep[c[1]], rep[c[2]]});
+  }
+  for (std::uint32_t v : indices)
+    out.geometricError = std::max(
+        out.geometricError, glm::length(shape.positions[v] - shape.positions[rep[cellOf[v]]]));
+  return out;
+}
+
+// Vertex clustering (as meshopt_simplifySloppy, but keeping locked vertices): the finest grid
+// whose result has at most targetTriangles triangles, found by bisection on the grid size.
+Simplifier::ReducedShape clusterVertices(const Simplifier::Shape& shape,
+                                         const std::vector<std::uint32_t>& indices,
+                                         std::size_t targetTriangles) {
+  int lo = 1, hi = 1 << 20;
+  Simplifier::ReducedShape best = clusterOnGrid(shape, indices, lo);
+  while (hi - lo > 1) {
+    const int mid = lo + (hi - lo) / 2;
+    Simplifier::ReducedShape r = clusterOnGrid(shape, indices, mid);
+    if (r.indices.size() / 3 <= targetTriangles) {
+      lo = mid;
+      best = std::move(r);
+    } else {
+      hi = mid;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangles,
                                     const std::vector<std::uint8_t>& locked) const {
   if (mesh.triangleCount() <= targetTriangles || mesh.positions.empty()) return {mesh};
   const std::size_t nv = mesh.positions.size();
-  // Weld by position: shapeOf[v] is the shape vertex of input vertex v.
-  Shape shape;
-  std::vector<std::uint32_t> shapeOf(nv);
+  // Weld by position: posOf[v] is the position index of input vertex v.
+  std::vector<std::uint32_t> posOf(nv);
+  std::vector<glm::dvec3> uniquePos;
+  std::vector<std::uint8_t> posLocked;
   {
     std::unordered_map<glm::dvec3, std::uint32_t, PosKeyHash> map;
     map.reserve(nv);
     for (std::size_t v = 0; v < nv; ++v) {
-      auto [it, fresh] = map.try_emplace(mesh.positions[v] + glm::dvec3(0.0),
-                                         std::uint32_t(shape.positions.size()));
+      auto [it, fresh] =
+          map.try_emplace(mesh.positions[v] + glm::dvec3(0.0), std::uint32_t(uniquePos.size()));
       if (fresh) {
-        shape.positions.push_back(mesh.positions[v]);
-        shape.locked.push_back(0);
+        uniquePos.push_back(mesh.positions[v]);
+        posLocked.push_back(0);
       }
-      shapeOf[v] = it->second;
-      if (v < locked.size() && locked[v]) shape.locked[it->second] = 1;
+      posOf[v] = it->second;
+      if (v < locked.size() && locked[v]) posLocked[it->second] = 1;
     }
   }
-  // Each input vertex's normal: its own, or the area-weighted normal of its triangles.
+  // Triangles on positions; cornerVertex[c] is the input vertex at corner c.
+  std::vector<std::uint32_t> corners, cornerVertex;
   std::vector<glm::dvec3> vertexNormal(nv, glm::dvec3(0.0));
   const bool hasN = mesh.normals.size() == nv;
   for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
     const auto a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
     if (a >= nv || b >= nv || c >= nv) continue;
-    const auto sa = shapeOf[a], sb = shapeOf[b], sc = shapeOf[c];
-    if (sa == sb || sb == sc || sa == sc) continue;
-    shape.indices.insert(shape.indices.end(), {sa, sb, sc});
+    const auto pa = posOf[a], pb = posOf[b], pc = posOf[c];
+    if (pa == pb || pb == pc || pa == pc) continue;
+    corners.insert(corners.end(), {pa, pb, pc});
+    cornerVertex.insert(cornerVertex.end(), {a, b, c});
     if (!hasN) {
+      // Each input vertex's normal: its own, or the area-weighted normal of its triangles.
       const glm::dvec3 n =
           glm::cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
       if (std::isfinite(n.x + n.y + n.z)) {
@@ -109,16 +189,83 @@ SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangle
     const double len = glm::length(n);
     vertexNormal[v] = len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
   }
-  // wedges[firstWedge[s] .. firstWedge[s+1]) are the input vertices at shape vertex s.
-  std::vector<std::uint32_t> firstWedge(shape.positions.size() + 1, 0), wedges(nv);
-  for (std::size_t v = 0; v < nv; ++v) ++firstWedge[shapeOf[v] + 1];
-  for (std::size_t s = 0; s < shape.positions.size(); ++s) firstWedge[s + 1] += firstWedge[s];
+  // Split non-manifold positions (a small box touching a wall at one corner, two roofs meeting at
+  // an edge): corners around a position that are joined through edges shared by exactly two
+  // triangles form one fan, and each fan becomes its own shape vertex. Edge collapses can then
+  // remove the box; a non-manifold vertex would be frozen.
+  const std::size_t nc = corners.size();
+  std::vector<std::uint32_t> fanRoot(nc);
+  std::iota(fanRoot.begin(), fanRoot.end(), 0u);
+  auto root = [&](std::uint32_t x) {
+    while (fanRoot[x] != x) x = fanRoot[x] = fanRoot[fanRoot[x]];
+    return x;
+  };
   {
-    std::vector<std::uint32_t> fill(firstWedge.begin(), firstWedge.end() - 1);
-    for (std::size_t v = 0; v < nv; ++v) wedges[fill[shapeOf[v]]++] = std::uint32_t(v);
+    // Per undirected edge: the triangles using it (two common, more when non-manifold).
+    std::unordered_map<std::uint64_t, std::array<std::uint32_t, 3>> edgeTriangles;
+    edgeTriangles.reserve(nc);
+    for (std::size_t t = 0; t < nc / 3; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t p = corners[3 * t + k], q = corners[3 * t + (k + 1) % 3];
+        const std::uint64_t key = (std::uint64_t(std::min(p, q)) << 32) | std::max(p, q);
+        auto [it, fresh] = edgeTriangles.try_emplace(key, std::array<std::uint32_t, 3>{0, 0, 0});
+        auto& e = it->second;
+        if (e[0] < 2) e[1 + e[0]] = std::uint32_t(t);
+        ++e[0];  // the count
+      }
+    auto cornerOf = [&](std::uint32_t t, std::uint32_t p) {
+      for (std::uint32_t k = 0; k < 3; ++k)
+        if (corners[3 * t + k] == p) return 3 * t + k;
+      return 3 * t;
+    };
+    for (const auto& [key, e] : edgeTriangles) {
+      if (e[0] != 2) continue;
+      for (std::uint32_t p : {std::uint32_t(key >> 32), std::uint32_t(key & 0xffffffffu)}) {
+        const std::uint32_t a = root(cornerOf(e[1], p)), b = root(cornerOf(e[2], p));
+        if (a != b) fanRoot[a] = b;
+      }
+    }
+  }
+  Shape shape;
+  std::vector<std::uint32_t> shapeOfCorner(nc);
+  {
+    std::unordered_map<std::uint32_t, std::uint32_t> shapeOfRoot;
+    for (std::size_t c = 0; c < nc; ++c) {
+      auto [it, fresh] =
+          shapeOfRoot.try_emplace(root(std::uint32_t(c)), std::uint32_t(shape.positions.size()));
+      if (fresh) {
+        shape.positions.push_back(uniquePos[corners[c]]);
+        shape.locked.push_back(posLocked[corners[c]]);
+      }
+      shapeOfCorner[c] = it->second;
+    }
+  }
+  shape.indices = shapeOfCorner;
+  // wedges[firstWedge[s] .. firstWedge[s+1]) are the input vertices at shape vertex s.
+  std::vector<std::uint32_t> firstWedge, wedges;
+  {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (shape vertex, input vertex)
+    pairs.reserve(nc);
+    for (std::size_t c = 0; c < nc; ++c) pairs.emplace_back(shapeOfCorner[c], cornerVertex[c]);
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    firstWedge.assign(shape.positions.size() + 1, 0);
+    for (const auto& [sv, v] : pairs) {
+      ++firstWedge[sv + 1];
+      wedges.push_back(v);
+    }
+    for (std::size_t sv = 0; sv < shape.positions.size(); ++sv)
+      firstWedge[sv + 1] += firstWedge[sv];
   }
 
   ReducedShape reduced = reduce(shape, targetTriangles);
+  // Edge collapses stop where every remaining collapse is illegal (non-manifold corners where
+  // small boxes touch walls, flips); vertex clustering then takes the rest of the way.
+  if (reduced.indices.size() / 3 > targetTriangles + targetTriangles / 4) {
+    ReducedShape clustered = clusterVertices(shape, reduced.indices, targetTriangles);
+    clustered.geometricError = std::max(clustered.geometricError, reduced.geometricError);
+    if (clustered.indices.size() < reduced.indices.size()) reduced = std::move(clustered);
+  }
 
   // Attributes back: per corner, the wedge whose normal best matches the kept triangle; among
   // equally good wedges (a flat texture seam) the one whose texture coordinate lies nearest the

@@ -16,7 +16,7 @@
 namespace service::cmd {
 
 const char* const kBuildUsage =
-    "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tri N]\n"
+    "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tris N]\n"
     "                   [--simplifier meshopt|openmesh] [--c-tex X] [--max-block-tri N]\n"
     "                   [--quiet]\n"
     "\n"
@@ -33,7 +33,8 @@ const char* const kBuildUsage =
     "  -o, --output DIR     the store folder to write (written under a temporary name and\n"
     "                       renamed at the end; replaces an earlier store there)\n"
     "  --level-factor N     C_levelFactor, 2..16 (default 3)\n"
-    "  --desired-tri N      C_desiredTri, triangles per node, 16..10000000 (default 4000)\n"
+    "  --desired-tris N     C_desiredTri, triangles per node, 16..10000000 (default 2000;\n"
+    "                       --desired-tri is the same option)\n"
     "  --simplifier NAME    meshopt (default, meshoptimizer) or openmesh (quadric decimater)\n"
     "  --c-tex X            c_tex of the cost (eq. 1), 0..1; default: the value `hlodr\n"
     "                       calibrate` stored ($HLODR_CALIBRATION or\n"
@@ -55,9 +56,9 @@ std::string formatSeconds(double s) {
 }  // namespace
 
 int runBuild(const Argv& argv) {
-  auto args = Args::parse(
-      argv, {"quiet"},
-      {"output", "level-factor", "desired-tri", "simplifier", "c-tex", "max-block-tri"});
+  auto args = Args::parse(argv, {"quiet"},
+                          {"output", "level-factor", "desired-tris", "desired-tri", "simplifier",
+                           "c-tex", "max-block-tri"});
   if (!args) {
     std::fprintf(stderr, "hlodr build: %s\n%s", args.message().c_str(), kBuildUsage);
     return 2;
@@ -73,7 +74,8 @@ int runBuild(const Argv& argv) {
     return 2;
   }
   const auto levelFactor = args->integer("level-factor", 3, 2, 16);
-  const auto desiredTri = args->integer("desired-tri", hlod::kDefaultDesiredTri, 16, 10000000);
+  const char* desiredTriName = args->has("desired-tri") ? "desired-tri" : "desired-tris";
+  const auto desiredTri = args->integer(desiredTriName, hlod::kDefaultDesiredTri, 16, 10000000);
   const auto maxBlock =
       args->integer("max-block-tri", hlod::kDefaultMaxBlockTriangles, 1000, 100000000);
   for (const auto* r : {&levelFactor, &desiredTri, &maxBlock})
