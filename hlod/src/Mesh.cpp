@@ -55,6 +55,7 @@ LocalMesh toLocal(const Mesh& mesh) {
   out.indices = mesh.indices;
   out.baseColor = mesh.baseColor;
   out.texture = mesh.texture;
+  out.oneSided = mesh.oneSided;
   return out;
 }
 

@@ -24,6 +24,7 @@ hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl, const hlod::LocalMe
   GpuMesh out;
   out.centre_ = mesh.centre;
   out.baseColor_ = mesh.baseColor;
+  out.oneSided_ = mesh.oneSided;
   out.indexCount_ = mesh.indices.size();
   out.vao_ = GlObject::create(gl, GlKind::VertexArray);
   out.vbo_ = GlObject::create(gl, GlKind::Buffer);

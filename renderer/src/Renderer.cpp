@@ -85,8 +85,19 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
   const glm::vec3 up(glm::normalize(options_.up));
   double fogDensity = options_.effects.fogDensity;
   GLuint current = 0;
+  bool culling = false;
   for (const GpuMesh* mesh : meshes) {
     if (!mesh) continue;
+    // Back faces of one-sided meshes are culled: half the triangles never reach the rasteriser.
+    if (mesh->oneSided() != culling) {
+      culling = mesh->oneSided();
+      if (culling) {
+        g.Enable(GL_CULL_FACE);
+        g.CullFace(GL_BACK);
+      } else {
+        g.Disable(GL_CULL_FACE);
+      }
+    }
     const ShaderProgram& p = program(mesh->textured());
     if (p.id() != current) {
       current = p.id();
@@ -113,6 +124,7 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
     ++timing.drawCalls;
   }
   g.BindVertexArray(0);
+  g.Disable(GL_CULL_FACE);
   g.EndQuery(GL_TIME_ELAPSED);
   g.Finish();
   timing.cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();

@@ -278,12 +278,23 @@ hlod::Result<hlod::FrameRecord> PathSession::renderFrame(const hlod::CameraSampl
     fv = renderer::makeFrameView(pose.position, pose.target, pose.up, pose.fovY, view.camera.aspect,
                                  zNear, zFar);
   }
-  std::vector<const renderer::GpuMesh*> drawList;
-  drawList.reserve(sel.front.size());
+  // Front to back: the depth test then rejects hidden fragments before they are shaded, which on
+  // a software rasteriser is most of a street-level frame (the near blocks hide the rest).
+  std::vector<std::pair<double, const renderer::GpuMesh*>> ordered;
+  ordered.reserve(sel.front.size());
   for (std::uint32_t n : sel.front) {
     auto it = st.gpu.find(n);
-    if (it != st.gpu.end()) drawList.push_back(&it->second);
+    if (it == st.gpu.end()) continue;
+    const hlod::Aabb& b = source_->skeleton().nodes[n].bounds;
+    const glm::dvec3 nearest = glm::clamp(view.camera.position, b.min, b.max);
+    const glm::dvec3 d = nearest - view.camera.position;
+    ordered.emplace_back(glm::dot(d, d), &it->second);
   }
+  std::stable_sort(ordered.begin(), ordered.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<const renderer::GpuMesh*> drawList;
+  drawList.reserve(ordered.size());
+  for (const auto& [d2, mesh] : ordered) drawList.push_back(mesh);
   const renderer::FrameTiming timing = st.renderer->drawFrame(fv, drawList);
 
   // Frame time: this frame's uploads plus the GL work through glFinish (settled-mode uploads

@@ -92,6 +92,20 @@ TEST(Renderer, ShowsBackgroundWhereNothingIsDrawnAndGeometryWhereItIs) {
   EXPECT_NEAR(corner.b, 0.90 * 255, 1.0);
 }
 
+TEST(Renderer, CullsBackFacesOfOneSidedMeshesOnly) {
+  auto ctx = contextOrSkip(Backend::Auto);
+  ASSERT_TRUE(ctx);
+  // The quad faces up (+Z); seen from below, a one-sided quad vanishes, a two-sided one stays.
+  auto q = quad(-1, -1, 1, 1, 0, {1, 0, 0, 1});
+  const glm::dvec3 above{0, -0.001, 10}, below{0, -0.001, -10};
+  // Green tells them apart: the red quad has none, the background 0.8.
+  q.oneSided = true;
+  EXPECT_LT(pixel(renderScene(*ctx, {q}, above, {0, 0, 0}).image, 80, 60).g, 40);
+  EXPECT_NEAR(pixel(renderScene(*ctx, {q}, below, {0, 0, 0}).image, 80, 60).g, 0.80 * 255, 1.0);
+  q.oneSided = false;
+  EXPECT_LT(pixel(renderScene(*ctx, {q}, below, {0, 0, 0}).image, 80, 60).g, 40);
+}
+
 TEST(Renderer, SamplesTexturesWithTopLeftOrigin) {
   auto ctx = contextOrSkip(Backend::Auto);
   ASSERT_TRUE(ctx);

@@ -161,6 +161,20 @@ TEST_F(NodeStoreFixture, TruncatedPayloadFileIsAnError) {
   EXPECT_FALSE(NodeStore::open(store_));
 }
 
+TEST(NodeStorePayload, OneSidedFlagRoundTrips) {
+  LocalMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  m.indices = {0, 1, 2};
+  for (bool oneSided : {false, true}) {
+    m.oneSided = oneSided;
+    const auto bytes = encodePayload(m);
+    auto back = decodePayloadBytes(bytes, crc32(bytes), glm::dvec3(0.0));
+    ASSERT_TRUE(back) << back.message();
+    EXPECT_EQ(back->oneSided, oneSided);
+  }
+}
+
 TEST(NodeStorePayload, ForgedPayloadsWithValidChecksumsAreRejectedOrDecodedSafely) {
   LocalMesh m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

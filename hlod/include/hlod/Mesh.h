@@ -55,6 +55,10 @@ struct Mesh {
   std::vector<std::uint32_t> indices;  // three per triangle
   glm::vec4 baseColor{0.8f, 0.8f, 0.8f, 1.0f};
   std::shared_ptr<const Image> texture;  // optional base-colour texture
+  // Every triangle is wound counter-clockwise seen from the side that can be seen (closed solids,
+  // ground): back faces may be culled. Scanned and CAD data (mixed winding) leave it false and are
+  // drawn two-sided.
+  bool oneSided = false;
 
   std::size_t triangleCount() const { return indices.size() / 3; }
   Aabb bounds() const;
@@ -77,6 +81,7 @@ struct LocalMesh {
   std::vector<std::uint32_t> indices;
   glm::vec4 baseColor{0.8f, 0.8f, 0.8f, 1.0f};
   std::shared_ptr<const Image> texture;
+  bool oneSided = false;  // as Mesh::oneSided
 
   std::size_t triangleCount() const { return indices.size() / 3; }
 };

@@ -5,7 +5,8 @@
 // Formats (little-endian; each versioned, every count and offset bounds-checked on read):
 //   skeleton.bin: "HLODSKEL", u32 version, u32 0x01020304, build params, store facts, node
 //     records, root list, then a 64-bit FNV-1a of all preceding bytes.
-//   payload: u32 "HLPL", u32 version, u32 vertexCount, u32 indexCount, u32 flags (1: texCoords),
+//   payload: u32 "HLPL", u32 version, u32 vertexCount, u32 indexCount, u32 flags (1: texCoords, 2:
+//   one-sided),
 //     u32 texWidth, u32 texHeight, f32 baseColor[4], f32 positions[3 vc] (relative to the node's
 //     centre), f32 normals[3 vc], f32 texCoords[2 vc] (if flagged), u32 indices[ic], u8 RGBA
 //     pixels[4 w h]. NodeInfo::payloadChecksum is the CRC-32 of these bytes.

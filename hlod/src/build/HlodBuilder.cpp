@@ -166,8 +166,10 @@ namespace {
 struct MaterialKey {
   const Image* texture;
   float r, g, b, a;
+  bool oneSided;
   bool operator<(const MaterialKey& o) const {
-    return std::tie(texture, r, g, b, a) < std::tie(o.texture, o.r, o.g, o.b, o.a);
+    return std::tie(texture, r, g, b, a, oneSided) <
+           std::tie(o.texture, o.r, o.g, o.b, o.a, o.oneSided);
   }
 };
 
@@ -212,13 +214,14 @@ std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles) {
   std::map<MaterialKey, Mesh> groups;
   for (const Mesh& m : model.meshes) {
     if (m.triangleCount() == 0) continue;
-    const MaterialKey key{m.texture.get(), m.baseColor.r, m.baseColor.g, m.baseColor.b,
-                          m.baseColor.a};
+    const MaterialKey key{m.texture.get(), m.baseColor.r, m.baseColor.g,
+                          m.baseColor.b,   m.baseColor.a, m.oneSided};
     auto [it, fresh] = groups.try_emplace(key);
     if (fresh) {
       it->second.name = m.name;
       it->second.baseColor = m.baseColor;
       it->second.texture = m.texture;
+      it->second.oneSided = m.oneSided;
     }
     appendMesh(it->second, m);
   }

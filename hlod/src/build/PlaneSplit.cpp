@@ -15,6 +15,7 @@ class HalfBuilder {
     out_.name = in.name;
     out_.baseColor = in.baseColor;
     out_.texture = in.texture;
+    out_.oneSided = in.oneSided;
   }
 
   std::uint32_t original(std::uint32_t v) {

@@ -47,6 +47,7 @@ Mesh emptyLike(const Mesh& mesh) {
   out.name = mesh.name;
   out.baseColor = mesh.baseColor;
   out.texture = mesh.texture;
+  out.oneSided = mesh.oneSided;
   return out;
 }
 

@@ -67,6 +67,7 @@ Mesh generateBlock(const CityOptions& options, int index) {
   Mesh mesh = city::buildBlockGeometry(plan);
   mesh.name = cityBlockName(index);
   mesh.baseColor = glm::vec4(1.0f);
+  mesh.oneSided = true;  // closed boxes and ground, wound outwards (BlockGeometry)
   if (options.textures) mesh.texture = std::make_shared<const Image>(city::paintBlockTexture(plan));
   return mesh;
 }

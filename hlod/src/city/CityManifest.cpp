@@ -173,6 +173,7 @@ Result<Mesh> loadCityBlock(const CityManifest& manifest, std::size_t i) {
     for (auto idx : other.indices) mesh.indices.push_back(idx + base);
   }
   mesh.name = info.name;
+  mesh.oneSided = true;  // hlodr's own city geometry (generateBlock): wound outwards
   if (!mesh.texture && !info.texture.empty()) {
     auto image = loadImage(info.texture);
     if (!image) return makeError("block " + info.name + ": " + image.message());

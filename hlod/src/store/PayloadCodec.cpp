@@ -11,6 +11,7 @@ namespace {
 
 constexpr std::uint32_t kPayloadMagic = 0x4c504c48u;  // "HLPL"
 constexpr std::uint32_t kFlagTexCoords = 1u;
+constexpr std::uint32_t kFlagOneSided = 2u;  // Mesh::oneSided
 // Generous limits that still keep every size computation far from overflow.
 constexpr std::uint64_t kMaxVertices = 1ull << 28;
 constexpr std::uint64_t kMaxIndices = 1ull << 30;
@@ -52,7 +53,7 @@ std::vector<std::byte> encodePayload(const LocalMesh& mesh) {
   w.put(kPayloadFormatVersion);
   w.put(vc);
   w.put(std::uint32_t(mesh.indices.size()));
-  w.put(hasUv ? kFlagTexCoords : 0u);
+  w.put((hasUv ? kFlagTexCoords : 0u) | (mesh.oneSided ? kFlagOneSided : 0u));
   w.put(std::uint32_t(hasTex ? mesh.texture->width : 0));
   w.put(std::uint32_t(hasTex ? mesh.texture->height : 0));
   w.put(mesh.baseColor);
@@ -80,8 +81,9 @@ Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, std::uint
   if (magic != kPayloadMagic) return makeError("payload has a bad magic number");
   if (version != kPayloadFormatVersion)
     return makeError("payload format version " + std::to_string(version) + " is not supported");
-  if (vc > kMaxVertices || ic > kMaxIndices || ic % 3 != 0 || (flags & ~kFlagTexCoords) ||
-      tw > kMaxTextureSide || th > kMaxTextureSide || (tw == 0) != (th == 0))
+  if (vc > kMaxVertices || ic > kMaxIndices || ic % 3 != 0 ||
+      (flags & ~(kFlagTexCoords | kFlagOneSided)) || tw > kMaxTextureSide || th > kMaxTextureSide ||
+      (tw == 0) != (th == 0))
     return makeError("payload header has impossible counts");
   const bool hasUv = flags & kFlagTexCoords;
   const std::uint64_t expected = 7 * 4 + 16 + std::uint64_t(vc) * (hasUv ? 32 : 24) +
@@ -92,6 +94,7 @@ Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, std::uint
   LocalMesh m;
   m.centre = centre;
   m.baseColor = baseColor;
+  m.oneSided = flags & kFlagOneSided;
   m.positions.resize(vc);
   m.normals.resize(vc);
   if (hasUv) m.texCoords.resize(vc);

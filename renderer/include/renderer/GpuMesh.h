@@ -19,6 +19,7 @@ class GpuMesh {
   const glm::dvec3& centre() const { return centre_; }
   const glm::vec4& baseColor() const { return baseColor_; }
   bool textured() const { return static_cast<bool>(texture_); }
+  bool oneSided() const { return oneSided_; }  // back faces may be culled
   GLuint texture() const { return texture_.id(); }
   std::uint64_t triangles() const { return indexCount_ / 3; }
   std::uint64_t gpuBytes() const { return gpuBytes_; }
@@ -27,6 +28,7 @@ class GpuMesh {
   GlObject vao_, vbo_, ibo_, texture_;
   glm::dvec3 centre_{0.0};
   glm::vec4 baseColor_{1.0f};
+  bool oneSided_ = false;
   std::uint64_t indexCount_ = 0;
   std::uint64_t gpuBytes_ = 0;
 };

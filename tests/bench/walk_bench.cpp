@@ -1,0 +1,174 @@
+// Lakhia IV on the default city: the walk-to-fly path at 1280x720, 33 ms budget, realtime mode,
+// with the Lakhia selector and with the SSE selector tuned (bisection on its pixel threshold) to
+// the same mean frame time; each unthrottled and behind an emulated 50 MB/s, 5 ms link. Prints
+// per run: median and p95 of |actual - target| / target, share of frames over target and over
+// 1.25x, p99 of actual / target, stalls, peak resident bytes / cap, toggles per frame.
+//
+// Run: ./walk_bench [STORE] [--frames N] [--memory-mb M] [--plots DIR] [--lakhia-only]
+//                   [--unthrottled-only | --throttled-only]
+// --plots DIR keeps each run's stats.json/csv and the three plots in DIR/RUN/.
+// Without STORE the default city is generated and built under ./walk_bench_data (once).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include "hlod/City.h"
+#include "hlod/HlodBuilder.h"
+#include "hlod/NodeStore.h"
+#include "service/PathSession.h"
+
+namespace {
+
+struct Run {
+  std::string name;
+  hlod::FrameSummary s;
+  double ssePixels = 0.0;
+};
+
+hlod::Result<hlod::FrameSummary> runOnce(const std::filesystem::path& store,
+                                         const hlod::CameraPath& path,
+                                         service::PathSessionOptions o, long long frames,
+                                         const std::filesystem::path& plots,
+                                         const std::string& prefix) {
+  auto session = service::PathSession::open(store, o);
+  if (!session) return session.error();
+  service::PathRunOptions r;
+  r.statsDir =
+      (plots.empty() ? std::filesystem::temp_directory_path() / "walk_bench_stats" : plots) /
+      (prefix.empty() ? "sse_tuning" : prefix);
+  std::filesystem::create_directories(r.statsDir);
+  r.maxFrames = frames;
+  auto result = service::runPath(**session, path, r);
+  if (!result) return result.error();
+  if (!plots.empty() && !prefix.empty())
+    if (auto s = (*session)->writePlots(r.statsDir); !s) return s.error();
+  return result->summary;
+}
+
+void print(const Run& r) {
+  const auto& s = r.s;
+  std::printf("%-28s %6.1f %7.3f %7.3f %6.1f%% %6.1f%% %7.2f %6llu %7.2f %7.2f\n", r.name.c_str(),
+              s.meanGpuMs, s.medianRelError, s.p95RelError, 100.0 * s.shareOverTarget,
+              100.0 * s.shareOver125, s.p99OverTarget, (unsigned long long)s.totalStalls,
+              s.peakOverCap, s.togglesPerFrame);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::filesystem::path store;
+  long long frames = -1;
+  double memoryMb = 256.0;
+  bool sse = true;
+  int ioFirst = 0, ioLast = 1;
+  std::filesystem::path plots;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--frames" && i + 1 < argc) {
+      frames = std::atoll(argv[++i]);
+    } else if (a == "--memory-mb" && i + 1 < argc) {
+      memoryMb = std::atof(argv[++i]);
+    } else if (a == "--lakhia-only") {
+      sse = false;
+    } else if (a == "--unthrottled-only") {
+      ioLast = 0;
+    } else if (a == "--throttled-only") {
+      ioFirst = 1;
+    } else if (a == "--plots" && i + 1 < argc) {
+      plots = argv[++i];
+    } else if (a.rfind("--", 0) == 0) {
+      std::fprintf(stderr,
+                   "usage: walk_bench [STORE] [--frames N] [--memory-mb M] [--plots DIR]\n"
+                   "                  [--lakhia-only] [--unthrottled-only | --throttled-only]\n");
+      return 2;
+    } else {
+      store = a;
+    }
+  }
+  if (store.empty()) {
+    const std::filesystem::path data = "walk_bench_data";
+    store = data / "city.hlod";
+    if (!std::filesystem::exists(store / "skeleton.bin")) {
+      std::fprintf(stderr, "building the default city's store under %s ...\n", data.c_str());
+      hlod::CityOptions city;
+      if (auto s = hlod::writeCity(data / "city", city); !s) {
+        std::fprintf(stderr, "%s\n", s.message().c_str());
+        return 1;
+      }
+      auto built = hlod::buildStoreFromCity(data / "city", store, hlod::BuildOptions{});
+      if (!built) {
+        std::fprintf(stderr, "%s\n", built.message().c_str());
+        return 1;
+      }
+    }
+  }
+  auto skeleton = hlod::NodeStore::open(store);
+  if (!skeleton) {
+    std::fprintf(stderr, "%s\n", skeleton.message().c_str());
+    return 1;
+  }
+  auto path = hlod::makeWalkFlyPath((*skeleton)->skeleton());
+  if (!path) {
+    std::fprintf(stderr, "%s\n", path.message().c_str());
+    return 1;
+  }
+
+  service::PathSessionOptions base;
+  base.width = 1280;
+  base.height = 720;
+  base.budgetMs = 33.0;
+  base.mode = service::PathMode::Realtime;
+  base.memoryCapBytes = std::uint64_t(memoryMb * 1024 * 1024);
+  std::printf("walk-fly %.1f s at 30 fps, 1280x720, budget 33 ms, realtime, cap %.0f MB\n",
+              path->duration(), memoryMb);
+  std::printf("%-28s %6s %7s %7s %7s %7s %7s %6s %7s %7s\n", "run", "mean", "med|d|", "p95|d|",
+              ">tgt", ">1.25x", "p99/t", "stalls", "pk/cap", "tog/fr");
+  for (int io = ioFirst; io <= ioLast; ++io) {
+    service::PathSessionOptions o = base;
+    if (io) o.ioMbps = 50.0, o.ioLatencyMs = 5.0;
+    const std::string link = io ? ", 50 MB/s 5 ms" : ", unthrottled";
+    Run lakhia;
+    lakhia.name = "lakhia" + link;
+    o.selector = "lakhia";
+    auto s = runOnce(store, *path, o, frames, plots, io ? "lakhia_io" : "lakhia");
+    if (!s) {
+      std::fprintf(stderr, "%s\n", s.message().c_str());
+      return 1;
+    }
+    lakhia.s = *s;
+    print(lakhia);
+    std::fflush(stdout);
+    if (!sse) continue;
+    // SSE tuned to Lakhia's mean frame time: bisection on log(pixels), larger = coarser.
+    o.selector = "sse";
+    double lo = std::log(0.25), hi = std::log(256.0);
+    Run best;
+    double bestGap = 1e300;
+    for (int it = 0; it < 6; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      o.selectorParams.ssePixels = std::exp(mid);
+      auto r = runOnce(store, *path, o, frames, {}, "");
+      if (!r) {
+        std::fprintf(stderr, "%s\n", r.message().c_str());
+        return 1;
+      }
+      const double gap = std::abs(r->meanGpuMs - lakhia.s.meanGpuMs);
+      std::fprintf(stderr, "  sse %.2f px: mean %.1f ms (lakhia %.1f)\n", std::exp(mid),
+                   r->meanGpuMs, lakhia.s.meanGpuMs);
+      if (gap < bestGap) bestGap = gap, best.s = *r, best.ssePixels = std::exp(mid);
+      if (r->meanGpuMs > lakhia.s.meanGpuMs)
+        lo = mid;
+      else
+        hi = mid;
+    }
+    char name[64];
+    std::snprintf(name, sizeof name, "sse %.1f px%s", best.ssePixels, link.c_str());
+    best.name = name;
+    print(best);
+    std::fflush(stdout);
+  }
+  return 0;
+}
