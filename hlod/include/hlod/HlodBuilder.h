@@ -30,9 +30,11 @@ namespace hlod {
 
 // A mesh file is cut into blocks of at most this many triangles before the HLOD is built.
 constexpr std::size_t kDefaultMaxBlockTriangles = 200000;
-// 2000: the default city's 64 hlod_0 nodes then hold about 140k triangles, which llvmpipe draws
-// in about 25 ms, so a 33 ms budget can still be met when the whole city is in view.
-constexpr std::uint32_t kDefaultDesiredTri = 2000;
+// 800: the default city's hlod_0 nodes then hold about 52k triangles. On llvmpipe at 1280x720 a
+// street-level frame of the ~48 visible hlod_0 nodes takes about 21 ms (most of it filling
+// pixels), which leaves a 33 ms budget room to refine near the camera; with 2000 that frame took
+// about 30 ms and the budget could not be held.
+constexpr std::uint32_t kDefaultDesiredTri = 800;
 constexpr int kMinTextureSide = 8;
 
 struct BuildOptions {

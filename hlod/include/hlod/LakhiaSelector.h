@@ -58,6 +58,8 @@ class LakhiaSelector final : public Selector {
   std::vector<double> timeSlice_;
   std::vector<double> priority_;
   std::vector<std::uint32_t> visitFrame_;  // frame a node's hyst was last updated
+  std::vector<double> leafCost_;           // summed cost of each subtree's leaves
+  std::vector<std::uint8_t> capped_;       // sliceSiblings scratch
 };
 
 }  // namespace hlod

@@ -109,6 +109,8 @@ struct LakhiaParams {
   double vTimeInitial = 1e-5;  // ms per unit of cost: 100 M triangles/s as a first guess
   double feedbackGain = 0.2;
   double feedbackMaxRatio = 4.0;
+  // Slices are capped at c_demandMargin times the need of the node's leaves (see sliceSiblings).
+  double c_demandMargin = 1.5;
 };
 
 struct SelectorParams {

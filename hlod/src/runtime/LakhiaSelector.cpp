@@ -52,7 +52,16 @@ LakhiaSelector::LakhiaSelector(const Skeleton& skeleton, const SelectorParams& p
       hyst_(skeleton.nodes.size(), 0.0),
       timeSlice_(skeleton.nodes.size(), 0.0),
       priority_(skeleton.nodes.size(), 0.0),
-      visitFrame_(skeleton.nodes.size(), 0xffffffffu) {}
+      visitFrame_(skeleton.nodes.size(), 0xffffffffu),
+      leafCost_(skeleton.nodes.size(), 0.0) {
+  // Bottom up (children follow their parents in the store): the cost of each subtree's leaves.
+  const auto& nodes = skeleton.nodes;
+  for (std::size_t i = nodes.size(); i-- > 0;) {
+    if (nodes[i].childCount == 0) leafCost_[i] = effectiveCost(std::uint32_t(i));
+    const std::uint32_t parent = nodes[i].parent;
+    if (parent < nodes.size() && parent < i) leafCost_[parent] += leafCost_[i];
+  }
+}
 
 double LakhiaSelector::timeNeeded(std::uint32_t node) const {
   return vTime() * effectiveCost(node);
@@ -75,14 +84,62 @@ long long LakhiaSelector::sliceSiblings(const std::vector<std::uint32_t>& visibl
                                         double shareTime) {
   // Eq. 4: timeSlice_n = shareTime_n * priority_n / sum over visible siblings of priority_i.
   // All priorities zero (no area, or all facing away with c_fore = 1): share equally.
-  double sum = 0.0;
-  for (std::uint32_t n : visibleSiblings) sum += priority_[n];
-  const double count = static_cast<double>(visibleSiblings.size());
-  const bool byPriority = sum > 0.0 && std::isfinite(sum);
+  // Departure from eq. 4: every sibling first gets its own timeNeeded (it is drawn at least at
+  // its own level, so a smaller slice is time it spends anyway), and eq. 4 shares only the rest,
+  // shareTime - sum timeNeeded, by priority. The slices sum to shareTime (unless every subtree is
+  // capped, below). With eq. 4 alone,
+  // far nodes overspend their small slices while near nodes refine into the whole of theirs, and
+  // the frame overshoots the budget. When even the needs do not fit, each gets shareTime in
+  // proportion to its need (all equally short). Both forms are continuous in v_time, so frame-time
+  // noise moves slices smoothly (no sibling jumps between the two cases).
+  // The spare is capped per sibling at what its subtree can use at all (its leaves' need times
+  // c_demandMargin: a leaf or a small subtree near the camera cannot spend more, and the margin
+  // keeps the urgency of leaves positive so that they can still be refined into); what a cap
+  // leaves over goes to the others by priority (water-filling, continuous in v_time).
+  double needSum = 0.0;
+  for (std::uint32_t n : visibleSiblings) needSum += timeNeeded(n);
+  const double spare = shareTime - needSum;
+  if (spare <= 0.0) {
+    for (std::uint32_t n : visibleSiblings)
+      timeSlice_[n] = needSum > 0.0 ? shareTime * timeNeeded(n) / needSum : 0.0;
+  } else {
+    for (std::uint32_t n : visibleSiblings) timeSlice_[n] = timeNeeded(n);
+    capped_.assign(visibleSiblings.size(), 0);
+    double left = spare;
+    for (bool changed = true; changed && left > 0.0;) {
+      changed = false;
+      double prioritySum = 0.0;
+      std::size_t open = 0;
+      for (std::size_t i = 0; i < visibleSiblings.size(); ++i)
+        if (!capped_[i]) prioritySum += priority_[visibleSiblings[i]], ++open;
+      if (open == 0) break;
+      const bool byPriority = prioritySum > 0.0 && std::isfinite(prioritySum);
+      for (std::size_t i = 0; i < visibleSiblings.size(); ++i) {
+        if (capped_[i]) continue;
+        const std::uint32_t n = visibleSiblings[i];
+        const double share = byPriority ? left * priority_[n] / prioritySum : left / double(open);
+        const double room =
+            vTime() * leafCost_[n] * std::max(1.0, params_.lakhia.c_demandMargin) - timeNeeded(n);
+        if (share >= room) {
+          timeSlice_[n] = timeNeeded(n) + std::max(0.0, room);
+          left -= std::max(0.0, room);
+          capped_[i] = 1;
+          changed = true;
+        }
+      }
+      if (!changed) {
+        for (std::size_t i = 0; i < visibleSiblings.size(); ++i) {
+          if (capped_[i]) continue;
+          const std::uint32_t n = visibleSiblings[i];
+          timeSlice_[n] = timeNeeded(n) +
+                          (byPriority ? left * priority_[n] / prioritySum : left / double(open));
+        }
+      }
+    }
+  }
   long long cumHyst = 0;
   const double hystSwitch = std::max(1e-9, params_.lakhia.c_hystSwitch);
   for (std::uint32_t n : visibleSiblings) {
-    timeSlice_[n] = byPriority ? shareTime * (priority_[n] / sum) : shareTime / count;
     updateHyst(n);
     // cumHyst = sum over siblings of trunc(hyst_i / c_hystSwitch).
     cumHyst += static_cast<long long>(std::trunc(hyst_[n] / hystSwitch));

@@ -33,7 +33,7 @@ const char* const kBuildUsage =
     "  -o, --output DIR     the store folder to write (written under a temporary name and\n"
     "                       renamed at the end; replaces an earlier store there)\n"
     "  --level-factor N     C_levelFactor, 2..16 (default 3)\n"
-    "  --desired-tris N     C_desiredTri, triangles per node, 16..10000000 (default 2000;\n"
+    "  --desired-tris N     C_desiredTri, triangles per node, 16..10000000 (default 800;\n"
     "                       --desired-tri is the same option)\n"
     "  --simplifier NAME    meshopt (default, meshoptimizer) or openmesh (quadric decimater)\n"
     "  --c-tex X            c_tex of the cost (eq. 1), 0..1; default: the value `hlodr\n"
