@@ -88,7 +88,7 @@ std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles);
 std::shared_ptr<const Image> prepareNodeTexture(const Image& texture,
                                                 std::vector<glm::vec2>& texCoords, double factor);
 
-// Box-filter resize of an RGBA8 image.
+// Box-filter resize of an RGBA8 image (OpenImageIO ImageBufAlgo::resize, "box" filter).
 Image resizeImage(const Image& image, int width, int height);
 
 struct BuildProgress {
