@@ -63,6 +63,8 @@ int main(int argc, char** argv) {
   long long frames = -1;
   double memoryMb = 256.0;
   bool sse = true;
+  std::string first = "lakhia";
+  double spareExponent = -1.0;
   int ioFirst = 0, ioLast = 1;
   std::filesystem::path plots;
   for (int i = 1; i < argc; ++i) {
@@ -71,6 +73,10 @@ int main(int argc, char** argv) {
       frames = std::atoll(argv[++i]);
     } else if (a == "--memory-mb" && i + 1 < argc) {
       memoryMb = std::atof(argv[++i]);
+    } else if (a == "--spare-exponent" && i + 1 < argc) {
+      spareExponent = std::atof(argv[++i]);
+    } else if (a == "--selector" && i + 1 < argc) {
+      first = argv[++i];
     } else if (a == "--lakhia-only") {
       sse = false;
     } else if (a == "--unthrottled-only") {
@@ -122,6 +128,7 @@ int main(int argc, char** argv) {
   base.budgetMs = 33.0;
   base.mode = service::PathMode::Realtime;
   base.memoryCapBytes = std::uint64_t(memoryMb * 1024 * 1024);
+  if (spareExponent > 0.0) base.selectorParams.lakhia.c_spareExponent = spareExponent;
   std::printf("walk-fly %.1f s at 30 fps, 1280x720, budget 33 ms, realtime, cap %.0f MB\n",
               path->duration(), memoryMb);
   std::printf("%-28s %6s %7s %7s %7s %7s %7s %6s %7s %7s\n", "run", "mean", "med|d|", "p95|d|",
@@ -131,8 +138,8 @@ int main(int argc, char** argv) {
     if (io) o.ioMbps = 50.0, o.ioLatencyMs = 5.0;
     const std::string link = io ? ", 50 MB/s 5 ms" : ", unthrottled";
     Run lakhia;
-    lakhia.name = "lakhia" + link;
-    o.selector = "lakhia";
+    lakhia.name = first + link;
+    o.selector = first;
     auto s = runOnce(store, *path, o, frames, plots, io ? "lakhia_io" : "lakhia");
     if (!s) {
       std::fprintf(stderr, "%s\n", s.message().c_str());

@@ -290,10 +290,9 @@ TEST(LakhiaSelector, FeedbackLoopConvergesToTheTargetWithNoisyFrameTime) {
   }
   EXPECT_LT(sumVTimeErr / n, 0.05) << "v_time did not converge to the simulated ms per triangle";
   EXPECT_LT(sumEstErr / n, 0.1) << "estimate does not track the measured frame time";
-  // Lakhia's rule never lets the children exceed the parent's slice, and a drawn parent's unused
-  // slice is not handed to others: the frame stays under the target, using part of it.
-  EXPECT_LT(sumMeasured / n, sel.targetMs());
-  EXPECT_GT(sumMeasured / n, 0.5 * sel.targetMs());
+  // The slices and the budget fill bring the mean frame time to the target, within the fill's
+  // hysteresis band (c_fillMargin, 10%).
+  EXPECT_NEAR(sumMeasured / n, sel.targetMs(), 0.1 * sel.targetMs());
   EXPECT_LT(maxMeasured, 1.4 * sel.targetMs());  // 10% noise on top
 }
 
@@ -312,11 +311,11 @@ TEST(LakhiaSelector, StillCameraStopsTogglingAndNeverOscillates) {
   std::vector<int> changes(sk.nodes.size(), 0);
   std::vector<std::uint8_t> drawn(sk.nodes.size(), 0), now(sk.nodes.size(), 0);
   int early = 0, middle = 0, late = 0;
-  for (int f = 0; f < 600; ++f) {
+  for (int f = 0; f < 900; ++f) {
     const Selection s = sel.select(v, AllResident());
     sel.feedback(gpu.frame(sk, s));
     const int toggles = static_cast<int>(s.upToggles + s.downToggles);
-    (f < 10 ? early : f < 400 ? middle : late) += toggles;
+    (f < 10 ? early : f < 600 ? middle : late) += toggles;
     std::fill(now.begin(), now.end(), 0);
     for (std::uint32_t n : s.front) now[n] = 1;
     for (std::uint32_t n = 0; n < sk.nodes.size() && f >= 10; ++n) changes[n] += now[n] != drawn[n];
@@ -325,7 +324,8 @@ TEST(LakhiaSelector, StillCameraStopsTogglingAndNeverOscillates) {
   EXPECT_GT(early, 0);  // it did refine from hlod_0 at first
   EXPECT_EQ(late, 0);
   // The few changes after the first 10 frames are groups with a few % of spare time slowly
-  // earning their switch (urgency); none of them flips back (no oscillation).
+  // earning their switch (urgency), and the budget fill making room for them; none of them flips
+  // back (no oscillation). Settling takes a few hundred frames: the last 300 have no toggle.
   EXPECT_LT(middle, 100);  // of ~900 drawn nodes
   for (std::uint32_t n = 0; n < sk.nodes.size(); ++n) EXPECT_LE(changes[n], 1) << "node " << n;
 }

@@ -53,6 +53,9 @@ class LakhiaSelector final : public Selector {
   // Time slices (eq. 4) and hysteresis for one sibling set; returns cumHyst.
   long long sliceSiblings(const std::vector<std::uint32_t>& visibleSiblings, double shareTime);
   void updateHyst(std::uint32_t node);
+  // Spends what the slices left of c_targetTime on further refinements (see the .cpp).
+  template <class Visit>
+  void fillBudget(Selection& s, const Residency& residency, Visit&& visit);
 
   std::vector<double> hyst_;
   std::vector<double> timeSlice_;
@@ -60,6 +63,7 @@ class LakhiaSelector final : public Selector {
   std::vector<std::uint32_t> visitFrame_;  // frame a node's hyst was last updated
   std::vector<double> leafCost_;           // summed cost of each subtree's leaves
   std::vector<std::uint8_t> capped_;       // sliceSiblings scratch
+  std::vector<double> weight_;             // sliceSiblings scratch
 };
 
 }  // namespace hlod

@@ -111,6 +111,10 @@ struct LakhiaParams {
   double feedbackMaxRatio = 4.0;
   // Slices are capped at c_demandMargin times the need of the node's leaves (see sliceSiblings).
   double c_demandMargin = 1.5;
+  // The spare is shared in proportion to priority^c_spareExponent (1: as eq. 4).
+  double c_spareExponent = 1.0;
+  // Budget fill after the walk (see LakhiaSelector::fillBudget): hysteresis margin on the step.
+  double c_fillMargin = 0.1;
 };
 
 struct SelectorParams {
@@ -167,6 +171,10 @@ class Selector {
   void markRefined(std::uint32_t node, Selection& s);
   void markDrawn(std::uint32_t node, Selection& s);
   void finishFrame(Selection& s);
+  // After a walk: replaces a drawn node in s by its (resident, visible) children, as if the walk
+  // had refined it (toggle counters included). Call finishFrame again afterwards.
+  void replaceByChildren(std::uint32_t node, const std::vector<std::uint32_t>& children,
+                         Selection& s);
   double effectiveCost(std::uint32_t node) const;  // max(cost, c_minCost)
   bool refinedLastFrame(std::uint32_t node) const { return refinedFrame_[node] == frame_ - 1; }
 
@@ -220,6 +228,7 @@ class Selector {
   double lastEstimatedCost_ = 0.0;
   std::uint32_t maxLevel_ = 0;
   std::vector<std::uint32_t> drawnFrame_;    // last frame each node was drawn
+  std::vector<std::uint32_t> drawnBefore_;   // drawnFrame_ before markDrawn set it this frame
   std::vector<std::uint32_t> refinedFrame_;  // last frame each node was replaced by children
 };
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace hlod {
 
@@ -105,19 +106,30 @@ long long LakhiaSelector::sliceSiblings(const std::vector<std::uint32_t>& visibl
   } else {
     for (std::uint32_t n : visibleSiblings) timeSlice_[n] = timeNeeded(n);
     capped_.assign(visibleSiblings.size(), 0);
+    // The spare's weights: priority^c_spareExponent (relative to the largest, so that no power
+    // underflows). 1 is eq. 4; larger exponents concentrate the spare on the highest priorities,
+    // so that it buys whole refinements instead of being spread too thin to buy any.
+    double maxPriority = 0.0;
+    for (std::uint32_t n : visibleSiblings) maxPriority = std::max(maxPriority, priority_[n]);
+    weight_.assign(visibleSiblings.size(), 0.0);
+    const double exponent = std::max(1.0, params_.lakhia.c_spareExponent);
+    for (std::size_t i = 0; i < visibleSiblings.size(); ++i) {
+      const double p = maxPriority > 0.0 ? priority_[visibleSiblings[i]] / maxPriority : 0.0;
+      weight_[i] = std::isfinite(p) ? std::pow(std::max(0.0, p), exponent) : 0.0;
+    }
     double left = spare;
     for (bool changed = true; changed && left > 0.0;) {
       changed = false;
       double prioritySum = 0.0;
       std::size_t open = 0;
       for (std::size_t i = 0; i < visibleSiblings.size(); ++i)
-        if (!capped_[i]) prioritySum += priority_[visibleSiblings[i]], ++open;
+        if (!capped_[i]) prioritySum += weight_[i], ++open;
       if (open == 0) break;
       const bool byPriority = prioritySum > 0.0 && std::isfinite(prioritySum);
       for (std::size_t i = 0; i < visibleSiblings.size(); ++i) {
         if (capped_[i]) continue;
         const std::uint32_t n = visibleSiblings[i];
-        const double share = byPriority ? left * priority_[n] / prioritySum : left / double(open);
+        const double share = byPriority ? left * weight_[i] / prioritySum : left / double(open);
         const double room =
             vTime() * leafCost_[n] * std::max(1.0, params_.lakhia.c_demandMargin) - timeNeeded(n);
         if (share >= room) {
@@ -131,8 +143,8 @@ long long LakhiaSelector::sliceSiblings(const std::vector<std::uint32_t>& visibl
         for (std::size_t i = 0; i < visibleSiblings.size(); ++i) {
           if (capped_[i]) continue;
           const std::uint32_t n = visibleSiblings[i];
-          timeSlice_[n] = timeNeeded(n) +
-                          (byPriority ? left * priority_[n] / prioritySum : left / double(open));
+          timeSlice_[n] =
+              timeNeeded(n) + (byPriority ? left * weight_[i] / prioritySum : left / double(open));
         }
       }
     }
@@ -179,7 +191,61 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
             refinedLastFrame(n) ? 0 : std::max(0LL, params_.lakhia.c_hystRefine);
         return cumHyst >= threshold;
       });
+  fillBudget(s, residency, visit);
   return s;
+}
+
+template <class Visit>
+void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&& visit) {
+  // Addition: the time the slices left unused. Each group decides with its own slice, and a
+  // slice that cannot pay for a whole level of refinement (children cost about c_levelFactor
+  // times their parent) is lost; summed over a city seen from above, with many blocks of equal
+  // priority, that is a third of the budget. The rest of c_targetTime is spent here on further
+  // refinements in priority order, as long as each fits whole. Hysteresis on the frame's total:
+  // nodes refined last frame are taken first and stay refined while the total is within
+  // (1 + c_fillMargin) of the target; new refinements are made only below (1 - c_fillMargin).
+  const double margin = std::clamp(params_.lakhia.c_fillMargin, 0.0, 0.9);
+  const double target = params_.lakhia.c_targetTime;
+  double total = vTime() * s.estimatedCost;
+  if (!(total < target * (1.0 + margin)) || !std::isfinite(total)) return;
+  const auto& nodes = skeleton_.nodes;
+  // Nodes refined last frame come first (they keep their refinement while it still fits), then
+  // the others by priority.
+  std::vector<std::tuple<bool, double, std::uint32_t>> heap;
+  auto push = [&](std::uint32_t n) {
+    if (nodes[n].childCount > 0)
+      heap.emplace_back(refinedLastFrame(n), priority_[n], n),
+          std::push_heap(heap.begin(), heap.end());
+  };
+  for (std::uint32_t n : s.front) push(n);
+  std::vector<std::uint32_t> children;
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end());
+    const std::uint32_t n = std::get<2>(heap.back());
+    heap.pop_back();
+    const NodeInfo& info = nodes[n];
+    if (info.firstChild >= nodes.size() || info.childCount > nodes.size() - info.firstChild)
+      continue;
+    children.clear();
+    double childCost = 0.0;
+    bool resident = true;
+    for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c) {
+      if (!visit(c)) continue;
+      children.push_back(c);
+      childCost += effectiveCost(c);
+      resident = resident && residency.isResident(c);
+    }
+    if (!resident) continue;
+    const double step = std::max(0.0, vTime() * (childCost - effectiveCost(n)));
+    // A band around the target: refinements kept from last frame may fill it up to
+    // (1 + margin), new ones only up to (1 - margin); inside the band nothing changes.
+    const double limit = target * (refinedLastFrame(n) ? 1.0 + margin : 1.0 - margin);
+    if (total + step > limit) continue;
+    total += step;
+    replaceByChildren(n, children, s);
+    for (std::uint32_t c : children) push(c);
+  }
+  finishFrame(s);
 }
 
 }  // namespace hlod

@@ -40,6 +40,7 @@ Selector::Selector(const Skeleton& skeleton, const SelectorParams& params)
       feedback_(params.lakhia.vTimeInitial, params.lakhia.feedbackGain,
                 params.lakhia.feedbackMaxRatio),
       drawnFrame_(skeleton.nodes.size(), kNever),
+      drawnBefore_(skeleton.nodes.size(), kNever),
       refinedFrame_(skeleton.nodes.size(), kNever) {
   for (const NodeInfo& n : skeleton.nodes) maxLevel_ = std::max(maxLevel_, n.level);
 }
@@ -71,12 +72,29 @@ void Selector::markRefined(std::uint32_t node, Selection& s) {
 
 void Selector::markDrawn(std::uint32_t node, Selection& s) {
   if (refinedFrame_[node] == frame_ - 1) ++s.downToggles;
+  drawnBefore_[node] = drawnFrame_[node];
   drawnFrame_[node] = frame_;
   const NodeInfo& n = skeleton_.nodes[node];
   s.front.push_back(node);
   s.estimatedCost += effectiveCost(node);
   s.triangles += n.numTri;
   if (n.level < s.nodesDrawnPerLevel.size()) ++s.nodesDrawnPerLevel[n.level];
+}
+
+void Selector::replaceByChildren(std::uint32_t node, const std::vector<std::uint32_t>& children,
+                                 Selection& s) {
+  auto it = std::find(s.front.begin(), s.front.end(), node);
+  if (it == s.front.end()) return;
+  s.front.erase(it);
+  // Undo markDrawn's counters, then count the node as refined and its children as drawn.
+  if (refinedFrame_[node] == frame_ - 1) --s.downToggles;
+  drawnFrame_[node] = drawnBefore_[node];
+  const NodeInfo& n = skeleton_.nodes[node];
+  s.estimatedCost -= effectiveCost(node);
+  s.triangles -= n.numTri;
+  if (n.level < s.nodesDrawnPerLevel.size()) --s.nodesDrawnPerLevel[n.level];
+  markRefined(node, s);
+  for (std::uint32_t c : children) markDrawn(c, s);
 }
 
 void Selector::finishFrame(Selection& s) {
