@@ -64,7 +64,6 @@ int main(int argc, char** argv) {
   double memoryMb = 256.0;
   bool sse = true;
   std::string first = "lakhia";
-  double spareExponent = -1.0;
   int ioFirst = 0, ioLast = 1;
   std::filesystem::path plots;
   for (int i = 1; i < argc; ++i) {
@@ -73,8 +72,6 @@ int main(int argc, char** argv) {
       frames = std::atoll(argv[++i]);
     } else if (a == "--memory-mb" && i + 1 < argc) {
       memoryMb = std::atof(argv[++i]);
-    } else if (a == "--spare-exponent" && i + 1 < argc) {
-      spareExponent = std::atof(argv[++i]);
     } else if (a == "--selector" && i + 1 < argc) {
       first = argv[++i];
     } else if (a == "--lakhia-only") {
@@ -128,7 +125,6 @@ int main(int argc, char** argv) {
   base.budgetMs = 33.0;
   base.mode = service::PathMode::Realtime;
   base.memoryCapBytes = std::uint64_t(memoryMb * 1024 * 1024);
-  if (spareExponent > 0.0) base.selectorParams.lakhia.c_spareExponent = spareExponent;
   std::printf("walk-fly %.1f s at 30 fps, 1280x720, budget 33 ms, realtime, cap %.0f MB\n",
               path->duration(), memoryMb);
   std::printf("%-28s %6s %7s %7s %7s %7s %7s %6s %7s %7s\n", "run", "mean", "med|d|", "p95|d|",

@@ -60,10 +60,11 @@ class LakhiaSelector final : public Selector {
   std::vector<double> hyst_;
   std::vector<double> timeSlice_;
   std::vector<double> priority_;
-  std::vector<std::uint32_t> visitFrame_;  // frame a node's hyst was last updated
-  std::vector<double> leafCost_;           // summed cost of each subtree's leaves
-  std::vector<std::uint8_t> capped_;       // sliceSiblings scratch
-  std::vector<double> weight_;             // sliceSiblings scratch
+  std::vector<std::uint32_t> visitFrame_;      // frame a node's hyst was last updated
+  std::vector<double> leafCost_;               // summed cost of each subtree's leaves
+  std::vector<std::uint32_t> evaluatedFrame_;  // frame priority_ and visible_ were computed
+  std::vector<std::uint8_t> visible_;          // in the frustum, as of evaluatedFrame_
+  std::vector<std::uint8_t> capped_;           // sliceSiblings scratch
 };
 
 }  // namespace hlod

@@ -7,6 +7,7 @@
 //
 // Texture coordinates follow glTF: (0,0) is the top-left of the image, v grows downwards; Image
 // row 0 is the top row. Importers of formats with v up (OBJ, PLY) flip v.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -85,6 +86,12 @@ struct LocalMesh {
 
   std::size_t triangleCount() const { return indices.size() / 3; }
 };
+
+// n normalised, or fallback when n has no length (opposite normals cancel) or is not finite.
+inline glm::vec3 normalizedOr(const glm::vec3& n, const glm::vec3& fallback) {
+  const float len = glm::length(n);
+  return len > 1e-12f && std::isfinite(len) ? n / len : fallback;
+}
 
 // Area-weighted per-vertex normals (computed in double; degenerate triangles add nothing, a
 // vertex with no area gets +Z so that no NaN reaches the GPU).

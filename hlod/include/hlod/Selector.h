@@ -111,8 +111,6 @@ struct LakhiaParams {
   double feedbackMaxRatio = 4.0;
   // Slices are capped at c_demandMargin times the need of the node's leaves (see sliceSiblings).
   double c_demandMargin = 1.5;
-  // The spare is shared in proportion to priority^c_spareExponent (1: as eq. 4).
-  double c_spareExponent = 1.0;
   // Budget fill after the walk (see LakhiaSelector::fillBudget): hysteresis margin on the step.
   double c_fillMargin = 0.1;
 };

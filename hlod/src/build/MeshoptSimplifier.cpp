@@ -12,13 +12,6 @@ namespace hlod {
 
 namespace {
 
-struct PositionHash {
-  std::size_t operator()(const glm::dvec3& p) const {
-    const std::hash<double> h;
-    return h(p.x) ^ (h(p.y) * 31) ^ (h(p.z) * 1000003);
-  }
-};
-
 class MeshoptSimplifier final : public Simplifier {
  public:
   const char* name() const override { return "meshopt"; }

@@ -47,10 +47,9 @@ class HalfBuilder {
     it->second = static_cast<std::uint32_t>(out_.positions.size());
     out_.positions.push_back(p);
     if (hasNormals()) {
-      glm::vec3 n = glm::mix(in_.normals[a], in_.normals[b], float(t));
-      const float len = glm::length(n);
       // Opposite normals can cancel; fall back to one endpoint's normal rather than NaN.
-      out_.normals.push_back(len > 1e-12f && std::isfinite(len) ? n / len : in_.normals[a]);
+      out_.normals.push_back(
+          normalizedOr(glm::mix(in_.normals[a], in_.normals[b], float(t)), in_.normals[a]));
     }
     if (hasTexCoords())
       out_.texCoords.push_back(glm::mix(in_.texCoords[a], in_.texCoords[b], float(t)));

@@ -104,9 +104,8 @@ std::size_t SeamVertices::insertInto(Mesh& mesh, std::span<const CutPlane> plane
     it->second = std::uint32_t(mesh.positions.size());
     mesh.positions.push_back(p);
     if (hasN) {
-      const glm::vec3 n = glm::mix(mesh.normals[a], mesh.normals[b], float(t));
-      const float len = glm::length(n);
-      mesh.normals.push_back(len > 1e-12f && std::isfinite(len) ? n / len : mesh.normals[a]);
+      mesh.normals.push_back(
+          normalizedOr(glm::mix(mesh.normals[a], mesh.normals[b], float(t)), mesh.normals[a]));
     }
     if (hasUv) mesh.texCoords.push_back(glm::mix(mesh.texCoords[a], mesh.texCoords[b], float(t)));
     return it->second;
@@ -150,9 +149,8 @@ std::size_t SeamVertices::insertInto(Mesh& mesh, std::span<const CutPlane> plane
       const auto c = std::uint32_t(mesh.positions.size());
       mesh.positions.push_back((p0 + p1 + p2) / 3.0);
       if (hasN) {
-        const glm::vec3 n = mesh.normals[v[0]] + mesh.normals[v[1]] + mesh.normals[v[2]];
-        const float len = glm::length(n);
-        mesh.normals.push_back(len > 1e-12f && std::isfinite(len) ? n / len : mesh.normals[v[0]]);
+        mesh.normals.push_back(normalizedOr(
+            mesh.normals[v[0]] + mesh.normals[v[1]] + mesh.normals[v[2]], mesh.normals[v[0]]));
       }
       if (hasUv)
         mesh.texCoords.push_back(

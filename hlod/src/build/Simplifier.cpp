@@ -51,17 +51,6 @@ Mesh emptyLike(const Mesh& mesh) {
   return out;
 }
 
-// Exact position key (-0.0 and 0.0 equal), for welding by position alone.
-struct PosKeyHash {
-  std::size_t operator()(const glm::dvec3& p) const {
-    unsigned char bytes[sizeof p];
-    std::memcpy(bytes, &p, sizeof p);
-    std::uint64_t h = 1469598103934665603ull;
-    for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
-    return std::size_t(h);
-  }
-};
-
 glm::dvec3 triangleNormal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
   const glm::dvec3 n = glm::cross(b - a, c - a);
   const double len = glm::length(n);
@@ -152,7 +141,7 @@ SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangle
   std::vector<glm::dvec3> uniquePos;
   std::vector<std::uint8_t> posLocked;
   {
-    std::unordered_map<glm::dvec3, std::uint32_t, PosKeyHash> map;
+    std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> map;
     map.reserve(nv);
     for (std::size_t v = 0; v < nv; ++v) {
       auto [it, fresh] =

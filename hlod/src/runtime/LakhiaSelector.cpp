@@ -54,7 +54,9 @@ LakhiaSelector::LakhiaSelector(const Skeleton& skeleton, const SelectorParams& p
       timeSlice_(skeleton.nodes.size(), 0.0),
       priority_(skeleton.nodes.size(), 0.0),
       visitFrame_(skeleton.nodes.size(), 0xffffffffu),
-      leafCost_(skeleton.nodes.size(), 0.0) {
+      leafCost_(skeleton.nodes.size(), 0.0),
+      evaluatedFrame_(skeleton.nodes.size(), 0xffffffffu),
+      visible_(skeleton.nodes.size(), 0) {
   // Bottom up (children follow their parents in the store): the cost of each subtree's leaves.
   const auto& nodes = skeleton.nodes;
   for (std::size_t i = nodes.size(); i-- > 0;) {
@@ -106,30 +108,19 @@ long long LakhiaSelector::sliceSiblings(const std::vector<std::uint32_t>& visibl
   } else {
     for (std::uint32_t n : visibleSiblings) timeSlice_[n] = timeNeeded(n);
     capped_.assign(visibleSiblings.size(), 0);
-    // The spare's weights: priority^c_spareExponent (relative to the largest, so that no power
-    // underflows). 1 is eq. 4; larger exponents concentrate the spare on the highest priorities,
-    // so that it buys whole refinements instead of being spread too thin to buy any.
-    double maxPriority = 0.0;
-    for (std::uint32_t n : visibleSiblings) maxPriority = std::max(maxPriority, priority_[n]);
-    weight_.assign(visibleSiblings.size(), 0.0);
-    const double exponent = std::max(1.0, params_.lakhia.c_spareExponent);
-    for (std::size_t i = 0; i < visibleSiblings.size(); ++i) {
-      const double p = maxPriority > 0.0 ? priority_[visibleSiblings[i]] / maxPriority : 0.0;
-      weight_[i] = std::isfinite(p) ? std::pow(std::max(0.0, p), exponent) : 0.0;
-    }
     double left = spare;
     for (bool changed = true; changed && left > 0.0;) {
       changed = false;
       double prioritySum = 0.0;
       std::size_t open = 0;
       for (std::size_t i = 0; i < visibleSiblings.size(); ++i)
-        if (!capped_[i]) prioritySum += weight_[i], ++open;
+        if (!capped_[i]) prioritySum += priority_[visibleSiblings[i]], ++open;
       if (open == 0) break;
       const bool byPriority = prioritySum > 0.0 && std::isfinite(prioritySum);
       for (std::size_t i = 0; i < visibleSiblings.size(); ++i) {
         if (capped_[i]) continue;
         const std::uint32_t n = visibleSiblings[i];
-        const double share = byPriority ? left * weight_[i] / prioritySum : left / double(open);
+        const double share = byPriority ? left * priority_[n] / prioritySum : left / double(open);
         const double room =
             vTime() * leafCost_[n] * std::max(1.0, params_.lakhia.c_demandMargin) - timeNeeded(n);
         if (share >= room) {
@@ -143,8 +134,8 @@ long long LakhiaSelector::sliceSiblings(const std::vector<std::uint32_t>& visibl
         for (std::size_t i = 0; i < visibleSiblings.size(); ++i) {
           if (capped_[i]) continue;
           const std::uint32_t n = visibleSiblings[i];
-          timeSlice_[n] =
-              timeNeeded(n) + (byPriority ? left * weight_[i] / prioritySum : left / double(open));
+          timeSlice_[n] = timeNeeded(n) +
+                          (byPriority ? left * priority_[n] / prioritySum : left / double(open));
         }
       }
     }
@@ -164,10 +155,14 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
   const PriorityModel model(view, params_.lakhia);
   const auto& nodes = skeleton_.nodes;
 
-  // Evaluates priority_ for a node and lists it for the loader; returns its visibility.
+  // Evaluates priority_ for a node and lists it for the loader; returns its visibility. Once per
+  // frame: the budget fill asks again about children the walk already visited.
   auto visit = [&](std::uint32_t n) {
+    if (evaluatedFrame_[n] == frame_) return visible_[n] != 0;
+    evaluatedFrame_[n] = frame_;
     const NodePriority np = model.evaluate(nodes[n]);
     priority_[n] = np.priority;
+    visible_[n] = np.visible;
     timeSlice_[n] = 0.0;  // invisible nodes get no share (sib() holds visible nodes only)
     s.loadPriorities.push_back({n, np.priority});
     return np.visible;
