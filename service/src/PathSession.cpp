@@ -221,6 +221,8 @@ hlod::Result<hlod::FrameRecord> PathSession::renderFrame(const hlod::CameraSampl
   ex.uploadMs = msSince(uploadStart);
 
   hlod::View view{sample.camera, sample.velocity, options_.width, options_.height};
+  // This frame's uploads are done: the drawing gets the rest of the budget.
+  view.spentMs = settled ? 0.0 : ex.uploadMs;
   view.camera.aspect = static_cast<double>(options_.width) / options_.height;
   const auto selectStart = Clock::now();
   // Settled: select as if everything were resident; that front is then loaded before drawing.
@@ -298,9 +300,9 @@ hlod::Result<hlod::FrameRecord> PathSession::renderFrame(const hlod::CameraSampl
   const renderer::FrameTiming timing = st.renderer->drawFrame(fv, drawList);
 
   // Frame time: this frame's uploads plus the GL work through glFinish (settled-mode uploads
-  // belong to the stall, not to the frame).
+  // belong to the stall, not to the frame). v_time learns from the drawing alone.
   const double frameMs = (settled ? 0.0 : ex.uploadMs) + timing.cpuMs;
-  selector_->feedback(frameMs);
+  selector_->feedback(timing.cpuMs);
 
   ex.queryGpuMs = timing.gpuMs;
   ex.drawMs = timing.cpuMs;

@@ -60,6 +60,9 @@ struct View {
   glm::dvec3 velocity{0.0};  // camera velocity, world units per second (for the distance lookahead)
   int viewportWidth = 1280;
   int viewportHeight = 720;
+  // Of this frame's budget, the ms already spent before drawing (the GPU uploads of nodes that
+  // finished loading): budgeted selectors give the drawing what is left of c_targetTime.
+  double spentMs = 0.0;
 };
 
 }  // namespace hlod

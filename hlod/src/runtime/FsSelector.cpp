@@ -19,11 +19,11 @@ FsSelector::FsSelector(const Skeleton& skeleton, const SelectorParams& params)
       drawn_(skeleton.nodes.size(), 0) {}
 
 Selection FsSelector::select(const View& view, const Residency& residency) {
-  Selection s = beginFrame();
+  Selection s = beginFrame(view);
   const PriorityModel model(view, params_.lakhia);
   const auto& nodes = skeleton_.nodes;
   const double vTime = s.vTime;
-  const double budget = params_.lakhia.c_targetTime;
+  const double budget = s.drawBudgetMs;
 
   struct Candidate {
     double value;  // added benefit per added cost

@@ -10,7 +10,7 @@ FullSelector::FullSelector(const Skeleton& skeleton, const SelectorParams& param
     : Selector(skeleton, params) {}
 
 Selection FullSelector::select(const View& view, const Residency& residency) {
-  Selection s = beginFrame();
+  Selection s = beginFrame(view);
   const PriorityModel model(view, params_.lakhia);
   const auto& nodes = skeleton_.nodes;
 

@@ -151,7 +151,7 @@ long long LakhiaSelector::sliceSiblings(const std::vector<std::uint32_t>& visibl
 }
 
 Selection LakhiaSelector::select(const View& view, const Residency& residency) {
-  Selection s = beginFrame();
+  Selection s = beginFrame(view);
   const PriorityModel model(view, params_.lakhia);
   const auto& nodes = skeleton_.nodes;
 
@@ -168,12 +168,15 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
     return np.visible;
   };
 
-  // Level 0: the visible hlod_0 nodes share c_targetTime.
+  // Level 0: the visible hlod_0 nodes share c_targetTime: what is left of it for the drawing,
+  // times c_aim.
+  const double aim = params_.lakhia.c_aim;
+  aimMs_ = s.drawBudgetMs * (std::isfinite(aim) ? std::clamp(aim, 0.1, 1.0) : 1.0);
   std::vector<std::uint32_t> visible;
   for (std::uint32_t r : skeleton_.roots) {
     if (r < nodes.size() && visit(r)) visible.push_back(r);
   }
-  sliceSiblings(visible, params_.lakhia.c_targetTime);
+  sliceSiblings(visible, aimMs_);
 
   // Breadth-first: the visible children replace a node when their cumHyst allows it.
   walkFront(
@@ -198,11 +201,12 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
   // priority, that is a third of the budget. The rest of c_targetTime is spent here on further
   // refinements in priority order, as long as each fits whole. Hysteresis on the frame's total:
   // nodes refined last frame are taken first and stay refined while the total is within
-  // (1 + c_fillMargin) of the target; new refinements are made only below (1 - c_fillMargin).
+  // (1 + c_fillMargin) of the aim; new refinements are made only below (1 - c_fillMargin).
   const double margin = std::clamp(params_.lakhia.c_fillMargin, 0.0, 0.9);
-  const double target = params_.lakhia.c_targetTime;
-  double total = vTime() * s.estimatedCost;
-  if (!(total < target * (1.0 + margin)) || !std::isfinite(total)) return;
+  const double keepLimit = aimMs_ * (1.0 + margin);
+  const double addLimit = aimMs_ * (1.0 - margin);
+  double total = vTime() * s.estimatedCost;  // the drawing's part of the frame
+  if (!(total < keepLimit) || !std::isfinite(total)) return;
   const auto& nodes = skeleton_.nodes;
   // Nodes refined last frame come first (they keep their refinement while it still fits), then
   // the others by priority.
@@ -232,9 +236,8 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
     }
     if (!resident) continue;
     const double step = std::max(0.0, vTime() * (childCost - effectiveCost(n)));
-    // A band around the target: refinements kept from last frame may fill it up to
-    // (1 + margin), new ones only up to (1 - margin); inside the band nothing changes.
-    const double limit = target * (refinedLastFrame(n) ? 1.0 + margin : 1.0 - margin);
+    // Inside the band [addLimit, keepLimit] nothing changes.
+    const double limit = refinedLastFrame(n) ? keepLimit : addLimit;
     if (total + step > limit) continue;
     total += step;
     replaceByChildren(n, children, s);

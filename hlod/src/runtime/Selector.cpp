@@ -55,11 +55,13 @@ double Selector::effectiveCost(std::uint32_t node) const {
   return std::isfinite(c) ? std::max(c, minCost) : minCost;
 }
 
-Selection Selector::beginFrame() {
+Selection Selector::beginFrame(const View& view) {
   ++frame_;
   if (frame_ == kNever) frame_ = 1;  // wrap-around after 4 billion frames: forget the history
   Selection s;
   s.targetMs = params_.lakhia.c_targetTime;
+  s.spentMs = std::isfinite(view.spentMs) ? std::max(0.0, view.spentMs) : 0.0;
+  s.drawBudgetMs = std::isfinite(s.targetMs) ? std::max(0.0, s.targetMs - s.spentMs) : 0.0;
   s.vTime = feedback_.vTime();
   s.nodesDrawnPerLevel.assign(skeleton_.nodes.empty() ? 0 : maxLevel_ + 1, 0);
   return s;
@@ -98,7 +100,7 @@ void Selector::replaceByChildren(std::uint32_t node, const std::vector<std::uint
 }
 
 void Selector::finishFrame(Selection& s) {
-  s.estimatedMs = s.vTime * s.estimatedCost;
+  s.estimatedMs = s.spentMs + s.vTime * s.estimatedCost;
   lastEstimatedCost_ = s.estimatedCost;
 }
 

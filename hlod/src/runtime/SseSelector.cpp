@@ -18,7 +18,7 @@ double SseSelector::screenSpaceError(const NodeInfo& node, const View& view, dou
 }
 
 Selection SseSelector::select(const View& view, const Residency& residency) {
-  Selection s = beginFrame();
+  Selection s = beginFrame(view);
   const Frustum frustum = view.camera.frustum();
   const auto& nodes = skeleton_.nodes;
   const double minDistance = params_.lakhia.c_minDistance;
