@@ -1,11 +1,13 @@
 // Lakhia IV on the default city: the walk-to-fly path at 1280x720, 33 ms budget, realtime mode,
 // with the Lakhia selector and with the SSE selector tuned (bisection on its pixel threshold) to
-// the same mean frame time; each unthrottled and behind an emulated 50 MB/s, 5 ms link. Prints
-// per run: median and p95 of |actual - target| / target, share of frames over target and over
-// 1.25x, p99 of actual / target, stalls, peak resident bytes / cap, toggles per frame.
+// the same mean frame time; each unthrottled and behind an emulated 50 Mbit/s, 5 ms link; and
+// Lakhia with the known-path prefetch (1 s ahead). Prints per run: median and p95 of
+// |actual - target| / target, share of frames over target and over 1.25x, p99 of actual /
+// target, stalls, peak resident bytes / cap, toggles per frame, triangles drawn per frame and
+// nodes per frame drawn coarser because their children were not loaded yet.
 //
 // Run: ./walk_bench [STORE] [--frames N] [--memory-mb M] [--plots DIR] [--lakhia-only]
-//                   [--unthrottled-only | --throttled-only]
+//                   [--no-prefetch] [--unthrottled-only | --throttled-only]
 // --plots DIR keeps each run's stats.json/csv and the three plots in DIR/RUN/.
 // Without STORE the default city is generated and built under ./walk_bench_data (once).
 #include <cmath>
@@ -32,7 +34,7 @@ hlod::Result<hlod::FrameSummary> runOnce(const std::filesystem::path& store,
                                          const hlod::CameraPath& path,
                                          service::PathSessionOptions o, long long frames,
                                          const std::filesystem::path& plots,
-                                         const std::string& prefix) {
+                                         const std::string& prefix, double prefetchSeconds = 0.0) {
   auto session = service::PathSession::open(store, o);
   if (!session) return session.error();
   service::PathRunOptions r;
@@ -41,6 +43,7 @@ hlod::Result<hlod::FrameSummary> runOnce(const std::filesystem::path& store,
       (prefix.empty() ? "sse_tuning" : prefix);
   std::filesystem::create_directories(r.statsDir);
   r.maxFrames = frames;
+  r.prefetchSeconds = prefetchSeconds;
   auto result = service::runPath(**session, path, r);
   if (!result) return result.error();
   if (!plots.empty() && !prefix.empty())
@@ -50,10 +53,11 @@ hlod::Result<hlod::FrameSummary> runOnce(const std::filesystem::path& store,
 
 void print(const Run& r) {
   const auto& s = r.s;
-  std::printf("%-28s %6.1f %7.3f %7.3f %6.1f%% %6.1f%% %7.2f %6llu %7.2f %7.2f\n", r.name.c_str(),
-              s.meanGpuMs, s.medianRelError, s.p95RelError, 100.0 * s.shareOverTarget,
-              100.0 * s.shareOver125, s.p99OverTarget, (unsigned long long)s.totalStalls,
-              s.peakOverCap, s.togglesPerFrame);
+  std::printf("%-30s %6.1f %7.3f %7.3f %6.1f%% %6.1f%% %7.2f %6llu %7.2f %7.2f %6.0fk %7.2f\n",
+              r.name.c_str(), s.meanGpuMs, s.medianRelError, s.p95RelError,
+              100.0 * s.shareOverTarget, 100.0 * s.shareOver125, s.p99OverTarget,
+              (unsigned long long)s.totalStalls, s.peakOverCap, s.togglesPerFrame,
+              s.meanTriangles / 1000.0, s.coarserPerFrame);
 }
 
 }  // namespace
@@ -63,6 +67,7 @@ int main(int argc, char** argv) {
   long long frames = -1;
   double memoryMb = 256.0;
   bool sse = true;
+  bool prefetch = true;
   std::string first = "lakhia";
   int ioFirst = 0, ioLast = 1;
   std::filesystem::path plots;
@@ -76,6 +81,8 @@ int main(int argc, char** argv) {
       first = argv[++i];
     } else if (a == "--lakhia-only") {
       sse = false;
+    } else if (a == "--no-prefetch") {
+      prefetch = false;
     } else if (a == "--unthrottled-only") {
       ioLast = 0;
     } else if (a == "--throttled-only") {
@@ -85,7 +92,8 @@ int main(int argc, char** argv) {
     } else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr,
                    "usage: walk_bench [STORE] [--frames N] [--memory-mb M] [--plots DIR]\n"
-                   "                  [--lakhia-only] [--unthrottled-only | --throttled-only]\n");
+                   "                  [--lakhia-only] [--no-prefetch]\n"
+                   "                  [--unthrottled-only | --throttled-only]\n");
       return 2;
     } else {
       store = a;
@@ -127,12 +135,13 @@ int main(int argc, char** argv) {
   base.memoryCapBytes = std::uint64_t(memoryMb * 1024 * 1024);
   std::printf("walk-fly %.1f s at 30 fps, 1280x720, budget 33 ms, realtime, cap %.0f MB\n",
               path->duration(), memoryMb);
-  std::printf("%-28s %6s %7s %7s %7s %7s %7s %6s %7s %7s\n", "run", "mean", "med|d|", "p95|d|",
-              ">tgt", ">1.25x", "p99/t", "stalls", "pk/cap", "tog/fr");
+  std::printf("%-30s %6s %7s %7s %7s %7s %7s %6s %7s %7s %7s %7s\n", "run", "mean", "med|d|",
+              "p95|d|", ">tgt", ">1.25x", "p99/t", "stalls", "pk/cap", "tog/fr", "tri/fr",
+              "crs/fr");
   for (int io = ioFirst; io <= ioLast; ++io) {
     service::PathSessionOptions o = base;
     if (io) o.ioMbps = 50.0, o.ioLatencyMs = 5.0;
-    const std::string link = io ? ", 50 MB/s 5 ms" : ", unthrottled";
+    const std::string link = io ? ", 50 Mbit/s 5 ms" : ", unthrottled";
     Run lakhia;
     lakhia.name = first + link;
     o.selector = first;
@@ -144,6 +153,18 @@ int main(int argc, char** argv) {
     lakhia.s = *s;
     print(lakhia);
     std::fflush(stdout);
+    if (prefetch) {
+      Run ahead;
+      ahead.name = first + " + prefetch" + link;
+      auto p = runOnce(store, *path, o, frames, plots, io ? "prefetch_io" : "prefetch", 1.0);
+      if (!p) {
+        std::fprintf(stderr, "%s\n", p.message().c_str());
+        return 1;
+      }
+      ahead.s = *p;
+      print(ahead);
+      std::fflush(stdout);
+    }
     if (!sse) continue;
     // SSE tuned to Lakhia's mean frame time: bisection on log(pixels), larger = coarser.
     o.selector = "sse";

@@ -27,6 +27,8 @@ std::vector<FrameRecord> handMadeFrames() {
     f[i].gpuMs = 10.0 * (i + 1);
     f[i].upToggles = i;
     f[i].downToggles = 1;
+    f[i].triangles = 1000 * (i + 1);
+    f[i].coarserNotResident = i == 2 ? 6 : 0;
     f[i].residentBytes = 100 * (i + 1);
     f[i].capBytes = 1000;
     f[i].stalls = i == 3 ? 2 : 0;
@@ -49,6 +51,8 @@ TEST(FrameStats, SummaryGivesErrorPercentilesSharesAndPeaks) {
   EXPECT_EQ(s.peakResidentBytes, 400u);
   EXPECT_DOUBLE_EQ(s.peakOverCap, 0.4);
   EXPECT_DOUBLE_EQ(s.togglesPerFrame, (0 + 1 + 2 + 3 + 4) / 4.0);
+  EXPECT_DOUBLE_EQ(s.meanTriangles, 2500.0);
+  EXPECT_DOUBLE_EQ(s.coarserPerFrame, 1.5);
 }
 
 TEST(FrameStats, EmptyRunAndZeroTargetsGiveZerosNotNan) {

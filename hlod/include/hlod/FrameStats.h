@@ -4,18 +4,19 @@
 //
 // stats.json: {"frames": [FrameRecord...], "summary": FrameSummary}. Field names and units:
 //   frames[i]: index (frame number), time (s, path time), targetMs (budget, ms), estimatedMs
-//     (selector's sum of timeNeeded, ms), gpuMs (frame time: GL work through glFinish, uploads
-//     included, ms; the "actual" time compared with the target), cpuMs (wall time of the whole
-//     frame, ms), selectorMs (front selection CPU time, ms), triangles, nodesPerLevel (array,
-//     index = level), upToggles, downToggles, vTime (ms per unit of cost), residentBytes,
-//     capBytes (0 = none), loadsStarted, loadsFinished, unloads (cumulative counts),
+//     (the frame's uploads plus the selector's sum of timeNeeded, ms), gpuMs (frame time: GL work
+//     through glFinish, uploads included, ms; the "actual" time compared with the target), cpuMs
+//     (wall time of the whole frame, ms), selectorMs (front selection CPU time, ms), triangles,
+//     nodesPerLevel (array, index = level), upToggles, downToggles, vTime (ms per unit of cost),
+//     residentBytes, capBytes (0 = none), loadsStarted, loadsFinished, unloads (cumulative counts),
 //     coarserNotResident (nodes drawn coarser because a visible child was not resident), stalls
 //     (frames or waits the renderer counted as a stall, e.g. settled-mode waits).
 //   summary: frames, medianRelError and p95RelError (of |gpuMs - targetMs| / targetMs),
 //     shareOverTarget and shareOver125 (fraction of frames with gpuMs > target, > 1.25 target),
 //     p99OverTarget (p99 of gpuMs / targetMs), meanGpuMs, totalStalls, peakResidentBytes,
 //     capBytes, peakOverCap (peak / cap, 0 when no cap), togglesPerFrame ((up+down)/frames),
-//     totalUpToggles, totalDownToggles.
+//     totalUpToggles, totalDownToggles, meanTriangles (triangles drawn per frame),
+//     coarserPerFrame (mean coarserNotResident: detail missing because it was not loaded).
 // stats.csv: one row per frame with the same names; nodesPerLevel as columns level0, level1...
 #include <cstdint>
 #include <span>
@@ -71,6 +72,8 @@ struct FrameSummary {
   double togglesPerFrame = 0.0;
   std::uint64_t totalUpToggles = 0;
   std::uint64_t totalDownToggles = 0;
+  double meanTriangles = 0.0;
+  double coarserPerFrame = 0.0;
 };
 
 // Frames with targetMs <= 0 are left out of the error figures.

@@ -60,9 +60,11 @@ FrameSummary summarize(std::span<const FrameRecord> frames) {
   s.frames = frames.size();
   std::vector<double> rel, ratio;
   std::size_t over = 0, over125 = 0;
-  double sumGpu = 0.0;
+  double sumGpu = 0.0, sumTriangles = 0.0, sumCoarser = 0.0;
   for (const FrameRecord& f : frames) {
     sumGpu += finiteOrZero(f.gpuMs);
+    sumTriangles += static_cast<double>(f.triangles);
+    sumCoarser += f.coarserNotResident;
     s.totalStalls += f.stalls;
     s.totalUpToggles += f.upToggles;
     s.totalDownToggles += f.downToggles;
@@ -86,6 +88,8 @@ FrameSummary summarize(std::span<const FrameRecord> frames) {
   if (!frames.empty()) {
     s.meanGpuMs = sumGpu / frames.size();
     s.togglesPerFrame = static_cast<double>(s.totalUpToggles + s.totalDownToggles) / frames.size();
+    s.meanTriangles = sumTriangles / frames.size();
+    s.coarserPerFrame = sumCoarser / frames.size();
   }
   s.peakOverCap = s.capBytes > 0 ? double(s.peakResidentBytes) / double(s.capBytes) : 0.0;
   return s;
@@ -128,7 +132,9 @@ std::string statsJson(std::span<const FrameRecord> frames, const FrameSummary& s
                   {"peakOverCap", s.peakOverCap},
                   {"togglesPerFrame", s.togglesPerFrame},
                   {"totalUpToggles", s.totalUpToggles},
-                  {"totalDownToggles", s.totalDownToggles}};
+                  {"totalDownToggles", s.totalDownToggles},
+                  {"meanTriangles", s.meanTriangles},
+                  {"coarserPerFrame", s.coarserPerFrame}};
   return json{{"frames", list}, {"summary", summary}}.dump(1);
 }
 
