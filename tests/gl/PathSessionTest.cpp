@@ -78,7 +78,7 @@ class PathSessionTest : public ::testing::Test {
 
   std::uint64_t rootBytes() const {
     std::uint64_t b = 0;
-    for (auto r : skeleton.roots) b += skeleton.nodes[r].payloadSize;
+    for (auto r : skeleton.roots) b += skeleton.nodes[r].memoryBytes;
     return b;
   }
 

@@ -14,13 +14,15 @@ using test::makeSyntheticCity;
 using test::MemoryNodeSource;
 using test::SyntheticCity;
 
+constexpr std::uint64_t kNodeMemory = 96000;
+
 SyntheticCity smallCity() {
   SyntheticCity c;
   c.blocksX = 2;
   c.blocksY = 2;
   c.depth = 2;
   c.triPerNode = 1000;
-  c.bytesPerTri = 48;  // 48000-byte payloads
+  c.bytesPerTri = 48;  // 48000-byte payloads, 96000 bytes decoded (kNodeMemory)
   return c;
 }
 
@@ -32,7 +34,7 @@ std::vector<LoadRequest> requests(std::initializer_list<std::pair<std::uint32_t,
 
 std::uint64_t rootBytes(const Skeleton& sk) {
   std::uint64_t b = 0;
-  for (std::uint32_t r : sk.roots) b += sk.nodes[r].payloadSize;
+  for (std::uint32_t r : sk.roots) b += sk.nodes[r].memoryBytes;
   return b;
 }
 
@@ -158,7 +160,7 @@ TEST(Loader, MemoryCapIsNeverExceededAndHlod0IsNeverUnloaded) {
   const Skeleton& sk = src.skeleton();
   LoaderParams p;
   p.chunkBytes = 20000;
-  p.capBytes = rootBytes(sk) + 6 * 48000 + 1000;  // room for 6 more nodes
+  p.capBytes = rootBytes(sk) + 6 * kNodeMemory + 1000;  // room for 6 more nodes
   Loader loader(src, p);
   ASSERT_TRUE(loader.loadRoots().ok());
   EXPECT_FALSE(loader.counters().rootsExceedCap);
@@ -211,7 +213,7 @@ TEST(Loader, UnloadsTheLowestPriorityNodeFirst) {
   MemoryNodeSource src(makeSyntheticCity(smallCity()));
   const Skeleton& sk = src.skeleton();
   LoaderParams p;
-  p.capBytes = rootBytes(sk) + 2 * 48000;
+  p.capBytes = rootBytes(sk) + 2 * kNodeMemory;
   Loader loader(src, p);
   ASSERT_TRUE(loader.loadRoots().ok());
   const std::uint32_t a = sk.nodes[0].firstChild, b = a + 1, c = a + 2;

@@ -169,7 +169,7 @@ TEST(NodeStorePayload, OneSidedFlagRoundTrips) {
   for (bool oneSided : {false, true}) {
     m.oneSided = oneSided;
     const auto bytes = encodePayload(m);
-    auto back = decodePayloadBytes(bytes, crc32(bytes), glm::dvec3(0.0));
+    auto back = decodePayloadBytes(bytes, glm::dvec3(0.0));
     ASSERT_TRUE(back) << back.message();
     EXPECT_EQ(back->oneSided, oneSided);
   }
@@ -183,7 +183,7 @@ TEST(NodeStorePayload, ForgedPayloadsWithValidChecksumsAreRejectedOrDecodedSafel
   m.indices = {0, 1, 2};
   m.texture = testmesh::checkerTexture(8, 8);
   const auto good = encodePayload(m);
-  auto ok = decodePayloadBytes(good, crc32(good), glm::dvec3(1, 2, 3));
+  auto ok = decodePayloadBytes(good, glm::dvec3(1, 2, 3));
   ASSERT_TRUE(ok) << ok.message();
   EXPECT_EQ(ok->indices, m.indices);
   EXPECT_EQ(ok->texture->pixels, m.texture->pixels);
@@ -195,7 +195,7 @@ TEST(NodeStorePayload, ForgedPayloadsWithValidChecksumsAreRejectedOrDecodedSafel
     for (int bit : {0, 3, 7}) {
       auto bad = good;
       bad[i] = std::byte(std::uint8_t(bad[i]) ^ (1u << bit));
-      auto r = decodePayloadBytes(bad, crc32(bad), glm::dvec3(0));
+      auto r = decodePayloadBytes(bad, glm::dvec3(0));
       if (!r) ++rejected;
     }
   }
@@ -203,11 +203,40 @@ TEST(NodeStorePayload, ForgedPayloadsWithValidChecksumsAreRejectedOrDecodedSafel
   auto idx = good;
   const std::size_t indexAt = good.size() - 8 * 8 * 4 - 12;  // the three indices
   idx[indexAt] = std::byte(7);
-  EXPECT_FALSE(decodePayloadBytes(idx, crc32(idx), glm::dvec3(0)));
+  EXPECT_FALSE(decodePayloadBytes(idx, glm::dvec3(0)));
   for (std::size_t n = 0; n < good.size(); ++n) {
     std::span<const std::byte> cut(good.data(), n);
-    EXPECT_FALSE(decodePayloadBytes(cut, crc32(cut), glm::dvec3(0)));
+    EXPECT_FALSE(decodePayloadBytes(cut, glm::dvec3(0)));
   }
+}
+
+TEST(NodeStorePayload, StoredDeflatedAndInflatedOnlyToTheRecordedSize) {
+  EXPECT_EQ(crc32(std::as_bytes(std::span("123456789", 9))), 0xcbf43926u);  // CRC-32 check value
+  LocalMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  m.texCoords = {{0, 0}, {1, 0}, {0, 1}};
+  m.indices = {0, 1, 2};
+  m.texture = testmesh::checkerTexture(64, 64);
+  const auto raw = encodePayload(m);
+  const auto stored = compressPayload(raw);
+  EXPECT_LT(stored.size(), raw.size() * 2 / 3);  // the checker pattern repeats: it deflates
+  auto back = inflatePayload(stored, raw.size());
+  ASSERT_TRUE(back) << back.message();
+  EXPECT_EQ(*back, raw);
+  // A wrong recorded size, an absurd one, a cut or flipped stream: Errors, never a crash.
+  EXPECT_FALSE(inflatePayload(stored, raw.size() - 1));
+  EXPECT_FALSE(inflatePayload(stored, raw.size() + 1));
+  EXPECT_FALSE(inflatePayload(stored, ~std::uint64_t(0)));
+  EXPECT_FALSE(inflatePayload(std::span(stored).first(stored.size() / 2), raw.size()));
+  int rejected = 0;
+  for (std::size_t i = 0; i < stored.size(); ++i) {
+    auto bad = stored;
+    bad[i] = std::byte(std::uint8_t(bad[i]) ^ 0x5a);
+    auto r = inflatePayload(bad, raw.size());
+    if (!r || *r != raw) ++rejected;
+  }
+  EXPECT_GT(rejected, int(stored.size() / 2));
 }
 
 TEST_F(NodeStoreFixture, ChunkReadsAreBoundsCheckedAndThreadSafe) {

@@ -50,6 +50,7 @@ inline Skeleton makeSyntheticCity(const SyntheticCity& c) {
     n.geometricError =
         level >= static_cast<std::uint32_t>(c.depth) ? 0.0 : glm::length(s) / c.levelFactor;
     n.payloadSize = n.numTri * c.bytesPerTri;
+    n.memoryBytes = 2 * n.payloadSize;  // as if stored deflated to half
     n.payloadOffset = offset;
     offset += n.payloadSize;
     return n;

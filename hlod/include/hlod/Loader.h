@@ -4,7 +4,7 @@
 // chunks, decodes them, and keeps memory bounded by unloading the lowest-priority nodes.
 //
 //   maxMemory > c_memory * sum over resident nodes of cost      (the paper's bound, optional)
-//   residentBytes + bytes of loads in progress <= capBytes       (a hard cap in payload bytes)
+//   residentBytes + bytes of loads in progress <= capBytes       (a hard cap in decoded bytes)
 //
 // hlod_0 nodes are loaded synchronously by loadRoots() and never unloaded (they are what the
 // renderer falls back to). A node is loaded only when its parent is resident, and unloaded only
@@ -64,8 +64,8 @@ struct LoaderCounters {
   std::uint64_t preemptions = 0;  // a load interrupted for a more important node
   std::uint64_t loadErrors = 0;   // read or decode failures (the node is not retried)
   std::uint64_t bytesRead = 0;
-  std::uint64_t residentBytes = 0;  // payload bytes of resident nodes
-  std::uint64_t inFlightBytes = 0;  // payload bytes reserved by loads in progress
+  std::uint64_t residentBytes = 0;  // decoded payload bytes (memoryBytes) of resident nodes
+  std::uint64_t inFlightBytes = 0;  // memoryBytes reserved by loads in progress
   std::uint64_t capBytes = 0;       // LoaderParams::capBytes (0 = none)
   std::uint64_t peakBytes = 0;      // peak of residentBytes + inFlightBytes
   std::uint64_t residentNodes = 0;

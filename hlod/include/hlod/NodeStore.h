@@ -1,15 +1,16 @@
 #pragma once
 // The node store on disk, NAME.hlod/ (a folder), written by the HLOD builder:
 //   skeleton.bin  the Skeleton (every NodeInfo field), build parameters and a checksum; loaded
-//   whole. payload.bin   the node payloads, one after another, read on demand in chunks with pread.
+//   whole. payload.bin   the node payloads, one after another, each compressed with raw DEFLATE
+//   (a third of the bytes to read on the default city), read on demand in chunks with pread.
 // Formats (little-endian; each versioned, every count and offset bounds-checked on read):
 //   skeleton.bin: "HLODSKEL", u32 version, u32 0x01020304, build params, store facts, node
 //     records, root list, then a 64-bit FNV-1a of all preceding bytes.
-//   payload: u32 "HLPL", u32 version, u32 vertexCount, u32 indexCount, u32 flags (1: texCoords, 2:
-//   one-sided),
-//     u32 texWidth, u32 texHeight, f32 baseColor[4], f32 positions[3 vc] (relative to the node's
-//     centre), f32 normals[3 vc], f32 texCoords[2 vc] (if flagged), u32 indices[ic], u8 RGBA
-//     pixels[4 w h]. NodeInfo::payloadChecksum is the CRC-32 of these bytes.
+//   payload: u32 "HLPL", u32 version, u32 vertexCount, u32 indexCount, u32 flags (1: texCoords,
+//     2: one-sided), u32 texWidth, u32 texHeight, f32 baseColor[4], f32 positions[3 vc] (relative
+//     to the node's centre), f32 normals[3 vc], f32 texCoords[2 vc] (if flagged), u32
+//     indices[ic], u8 RGBA pixels[4 w h]: NodeInfo::memoryBytes in all. payload.bin holds it
+//     deflated: NodeInfo::payloadSize bytes, whose CRC-32 is NodeInfo::payloadChecksum.
 // A truncated or corrupted store is an Error when opened or decoded, never a crash.
 #include <cstddef>
 #include <cstdint>
@@ -23,7 +24,7 @@
 
 namespace hlod {
 
-constexpr std::uint32_t kSkeletonFormatVersion = 1;
+constexpr std::uint32_t kSkeletonFormatVersion = 2;
 constexpr std::uint32_t kPayloadFormatVersion = 1;
 
 // Facts about a whole store, beside the Skeleton.
@@ -39,10 +40,14 @@ std::uint32_t crc32(std::span<const std::byte> bytes);
 
 // Payload encoding of one node's mesh (see the format above).
 std::vector<std::byte> encodePayload(const LocalMesh& mesh);
-// Decodes with strict checks: exact size, checksum, counts against sizes, index < vertex count,
-// finite values. centre is the node's centre (from the skeleton).
-Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, std::uint32_t checksum,
-                                     const glm::dvec3& centre);
+// Decodes with strict checks: exact size, counts against sizes, index < vertex count, finite
+// values. centre is the node's centre (from the skeleton).
+Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, const glm::dvec3& centre);
+// The stored form of a payload in payload.bin: raw DEFLATE (libdeflate, level 1), and back.
+// Inflating gives exactly memoryBytes or an Error.
+std::vector<std::byte> compressPayload(std::span<const std::byte> raw);
+Result<std::vector<std::byte>> inflatePayload(std::span<const std::byte> stored,
+                                              std::uint64_t memoryBytes);
 
 // skeleton.bin encoding; decoding verifies the checksum and the tree's structure.
 std::vector<std::byte> encodeSkeleton(const Skeleton& skeleton, const StoreFacts& facts);

@@ -28,8 +28,9 @@ struct NodeInfo {
   glm::vec3 avgNormal{0.0f, 0.0f, 1.0f};  // eq. 3 (fallback +Z when the node has no area)
   double geometricError = 0.0;  // world units; 0 at the leaves (for screen-space-error selection)
   std::uint64_t payloadOffset = 0;
-  std::uint64_t payloadSize = 0;
-  std::uint32_t payloadChecksum = 0;
+  std::uint64_t payloadSize = 0;      // bytes stored in payload.bin (compressed): what a load reads
+  std::uint32_t payloadChecksum = 0;  // CRC-32 of those stored bytes
+  std::uint64_t memoryBytes = 0;      // the decoded payload: what a resident node holds
 };
 
 struct BuildParams {

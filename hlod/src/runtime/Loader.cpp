@@ -129,7 +129,7 @@ bool Loader::hasResidentChildLocked(std::uint32_t node) const {
 void Loader::dropPartialLocked(std::uint32_t node) {
   auto it = partials_.find(node);
   if (it == partials_.end()) return;
-  counters_.inFlightBytes -= it->second->bytes.size();
+  counters_.inFlightBytes -= skeleton_.nodes[node].memoryBytes;
   partials_.erase(it);
   if (current_ == node) current_ = kNoNode;
 }
@@ -138,7 +138,7 @@ void Loader::unloadLocked(std::uint32_t node) {
   const NodeInfo& n = skeleton_.nodes[node];
   resident_[node].reset();
   residentFlag_[node].store(false);
-  counters_.residentBytes -= n.payloadSize;
+  counters_.residentBytes -= n.memoryBytes;
   counters_.residentCost -= n.cost;
   --counters_.residentNodes;
   ++counters_.unloads;
@@ -150,14 +150,15 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
   const NodeInfo& info = skeleton_.nodes[node];
   const bool capOn = params_.capBytes > 0;
   const bool costOn = params_.c_memory > 0.0;
-  std::uint64_t bytes = counters_.residentBytes + counters_.inFlightBytes + info.payloadSize;
+  // Once decoded the node holds memoryBytes (more than its compressed read buffer).
+  std::uint64_t bytes = counters_.residentBytes + counters_.inFlightBytes + info.memoryBytes;
   double cost = counters_.residentCost + info.cost;
   auto fits = [&] {
     return (!capOn || bytes <= params_.capBytes) &&
            (!costOn || params_.c_memory * cost < params_.maxMemory);
   };
   if (fits()) return true;
-  if (capOn && info.payloadSize > params_.capBytes) return false;
+  if (capOn && info.memoryBytes > params_.capBytes) return false;
 
   // Victims less important than the node: kept partial buffers first (cheap to drop), then
   // resident nodes without resident children, lowest priority first, deeper levels first.
@@ -188,7 +189,7 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
   while (!fits() && take < victims.size()) {
     const Victim& v = victims[take++];
     const NodeInfo& vn = skeleton_.nodes[v.node];
-    bytes -= v.resident ? vn.payloadSize : partials_.at(v.node)->bytes.size();
+    bytes -= vn.memoryBytes;
     if (v.resident) cost -= vn.cost;
   }
   if (!fits()) return false;
@@ -265,7 +266,8 @@ bool Loader::step() {
       auto fresh = std::make_unique<Partial>();
       fresh->bytes.resize(size);
       it = partials_.emplace(node, std::move(fresh)).first;
-      counters_.inFlightBytes += size;
+      // Reserve what the node will hold decoded, so that finishing it cannot pass the cap.
+      counters_.inFlightBytes += skeleton_.nodes[node].memoryBytes;
       counters_.peakBytes =
           std::max(counters_.peakBytes, counters_.residentBytes + counters_.inFlightBytes);
       ++counters_.loadsStarted;
@@ -323,7 +325,7 @@ void Loader::finishLocked(std::uint32_t node, Result<LocalMesh> mesh) {
   auto shared = std::make_shared<const LocalMesh>(std::move(mesh).value());
   resident_[node] = shared;
   residentFlag_[node].store(true);
-  counters_.residentBytes += n.payloadSize;
+  counters_.residentBytes += n.memoryBytes;
   counters_.residentCost += n.cost;
   ++counters_.residentNodes;
   ++counters_.loadsFinished;

@@ -76,7 +76,13 @@ Result<LocalMesh> NodeStore::decodePayload(std::uint32_t node,
   const NodeInfo& n = skeleton_.nodes[node];
   if (bytes.size() != n.payloadSize)
     return makeError("payload of node " + std::to_string(node) + " has the wrong size");
-  auto mesh = decodePayloadBytes(bytes, n.payloadChecksum, n.centre);
+  // The checksum covers the stored bytes: corruption is caught before decompression.
+  if (crc32(bytes) != n.payloadChecksum)
+    return makeError("node " + std::to_string(node) +
+                     ": payload checksum mismatch (corrupt store)");
+  auto raw = inflatePayload(bytes, n.memoryBytes);
+  if (!raw) return makeError("node " + std::to_string(node) + ": " + raw.message());
+  auto mesh = decodePayloadBytes(*raw, n.centre);
   if (!mesh) return makeError("node " + std::to_string(node) + ": " + mesh.message());
   return mesh;
 }
@@ -112,12 +118,14 @@ NodeStoreWriter::~NodeStoreWriter() {
 }
 
 Status NodeStoreWriter::appendPayload(const LocalMesh& mesh, NodeInfo& node) {
-  const std::vector<std::byte> bytes = encodePayload(mesh);
+  const std::vector<std::byte> raw = encodePayload(mesh);
+  const std::vector<std::byte> bytes = compressPayload(raw);
   if (std::fwrite(bytes.data(), 1, bytes.size(), payload_) != bytes.size())
     return makeError("cannot write payload.bin (disk full?)");
   node.payloadOffset = payloadBytes_;
   node.payloadSize = bytes.size();
   node.payloadChecksum = crc32(bytes);
+  node.memoryBytes = raw.size();
   payloadBytes_ += bytes.size();
   return Ok{};
 }

@@ -1,6 +1,9 @@
 // Encoding and strict decoding of node payloads (format in hlod/NodeStore.h).
-#include <array>
+#include <libdeflate.h>
+
 #include <cmath>
+#include <memory>
+#include <new>
 
 #include "hlod/NodeStore.h"
 #include "store/ByteIO.h"
@@ -16,16 +19,15 @@ constexpr std::uint32_t kFlagOneSided = 2u;  // Mesh::oneSided
 constexpr std::uint64_t kMaxVertices = 1ull << 28;
 constexpr std::uint64_t kMaxIndices = 1ull << 30;
 constexpr std::uint32_t kMaxTextureSide = 1u << 15;
+constexpr std::uint64_t kMaxPayloadBytes =
+    7 * 4 + 16 + kMaxVertices * 32 + kMaxIndices * 4 + 4ull * kMaxTextureSide * kMaxTextureSide;
 
-std::array<std::uint32_t, 256> makeCrcTable() {
-  std::array<std::uint32_t, 256> t{};
-  for (std::uint32_t i = 0; i < 256; ++i) {
-    std::uint32_t c = i;
-    for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
-    t[i] = c;
-  }
-  return t;
-}
+struct CompressorFree {
+  void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
+};
+struct DecompressorFree {
+  void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
+};
 
 bool allFinite(const float* v, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i)
@@ -36,10 +38,33 @@ bool allFinite(const float* v, std::size_t n) {
 }  // namespace
 
 std::uint32_t crc32(std::span<const std::byte> bytes) {
-  static const auto table = makeCrcTable();
-  std::uint32_t c = 0xffffffffu;
-  for (std::byte b : bytes) c = table[(c ^ std::uint32_t(b)) & 0xffu] ^ (c >> 8);
-  return c ^ 0xffffffffu;
+  return std::uint32_t(libdeflate_crc32(0, bytes.data(), bytes.size()));
+}
+
+std::vector<std::byte> compressPayload(std::span<const std::byte> raw) {
+  // Level 1: 3x smaller on the default city at ~200 MB/s; higher levels gain 7% at half speed.
+  thread_local std::unique_ptr<libdeflate_compressor, CompressorFree> c(
+      libdeflate_alloc_compressor(1));
+  if (!c) throw std::bad_alloc();
+  std::vector<std::byte> out(libdeflate_deflate_compress_bound(c.get(), raw.size()));
+  const std::size_t n =
+      libdeflate_deflate_compress(c.get(), raw.data(), raw.size(), out.data(), out.size());
+  out.resize(n);  // never 0: the bound always fits
+  return out;
+}
+
+Result<std::vector<std::byte>> inflatePayload(std::span<const std::byte> stored,
+                                              std::uint64_t memoryBytes) {
+  if (memoryBytes > kMaxPayloadBytes) return makeError("payload claims an impossible size");
+  thread_local std::unique_ptr<libdeflate_decompressor, DecompressorFree> d(
+      libdeflate_alloc_decompressor());
+  if (!d) throw std::bad_alloc();
+  std::vector<std::byte> raw(memoryBytes);
+  // Exactly memoryBytes or an error: libdeflate never writes past the buffer.
+  if (libdeflate_deflate_decompress(d.get(), stored.data(), stored.size(), raw.data(), raw.size(),
+                                    nullptr) != LIBDEFLATE_SUCCESS)
+    return makeError("payload does not decompress to its recorded size (corrupt store)");
+  return raw;
 }
 
 std::vector<std::byte> encodePayload(const LocalMesh& mesh) {
@@ -69,9 +94,7 @@ std::vector<std::byte> encodePayload(const LocalMesh& mesh) {
   return std::move(w.bytes);
 }
 
-Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, std::uint32_t checksum,
-                                     const glm::dvec3& centre) {
-  if (crc32(bytes) != checksum) return makeError("payload checksum mismatch (corrupt store)");
+Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, const glm::dvec3& centre) {
   store::ByteReader r(bytes);
   std::uint32_t magic = 0, version = 0, vc = 0, ic = 0, flags = 0, tw = 0, th = 0;
   glm::vec4 baseColor;

@@ -31,6 +31,7 @@ void putNode(store::ByteWriter& w, const NodeInfo& n) {
   w.put(n.payloadOffset);
   w.put(n.payloadSize);
   w.put(n.payloadChecksum);
+  w.put(n.memoryBytes);
 }
 
 bool getNode(store::ByteReader& r, NodeInfo& n) {
@@ -38,10 +39,10 @@ bool getNode(store::ByteReader& r, NodeInfo& n) {
          r.get(n.block) && r.get(n.bounds.min) && r.get(n.bounds.max) && r.get(n.centre) &&
          r.get(n.numTri) && r.get(n.numTexTri) && r.get(n.cost) && r.get(n.staticBenefit) &&
          r.get(n.avgNormal) && r.get(n.geometricError) && r.get(n.payloadOffset) &&
-         r.get(n.payloadSize) && r.get(n.payloadChecksum);
+         r.get(n.payloadSize) && r.get(n.payloadChecksum) && r.get(n.memoryBytes);
 }
 
-constexpr std::size_t kNodeRecordSize = 5 * 4 + 9 * 8 + 2 * 4 + 2 * 8 + 3 * 4 + 8 + 2 * 8 + 4;
+constexpr std::size_t kNodeRecordSize = 5 * 4 + 9 * 8 + 2 * 4 + 2 * 8 + 3 * 4 + 8 + 2 * 8 + 4 + 8;
 
 bool finite3(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -92,7 +93,7 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
   if (version != kSkeletonFormatVersion)
     return makeError("skeleton.bin format version " + std::to_string(version) +
                      " is not supported (this hlodr reads " +
-                     std::to_string(kSkeletonFormatVersion) + ")");
+                     std::to_string(kSkeletonFormatVersion) + "; rebuild it with hlodr build)");
   if (bom != kByteOrderMark) return bad("byte order mark (written on another architecture?)");
   if (store::fnv1a64(body) != stored) return bad("checksum mismatch");
 
@@ -142,6 +143,9 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
     if (n.payloadOffset > out.facts.payloadBytes ||
         n.payloadSize > out.facts.payloadBytes - n.payloadOffset)
       return bad("node " + std::to_string(i) + " payload lies outside payload.bin");
+    // DEFLATE expands at most 1032:1; a larger claim would only make a load allocate wildly.
+    if (n.memoryBytes > 1032 * n.payloadSize + 1024)
+      return bad("node " + std::to_string(i) + " claims an impossible decoded size");
     if (!finite3(n.centre) ||
         (!n.bounds.empty() && (!finite3(n.bounds.min) || !finite3(n.bounds.max))) ||
         !std::isfinite(n.cost) || !std::isfinite(n.staticBenefit) ||

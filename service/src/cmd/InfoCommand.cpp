@@ -39,7 +39,7 @@ int runInfo(const Argv& argv) {
   const hlod::StoreFacts& f = (*store)->facts();
   struct Level {
     std::size_t nodes = 0, leaves = 0;
-    std::uint64_t triangles = 0, payloadBytes = 0;
+    std::uint64_t triangles = 0, payloadBytes = 0, memoryBytes = 0;
   };
   std::map<std::uint32_t, Level> levels;
   std::uint64_t leafTriangles = 0;
@@ -49,6 +49,7 @@ int runInfo(const Argv& argv) {
     ++l.nodes;
     l.triangles += n.numTri;
     l.payloadBytes += n.payloadSize;
+    l.memoryBytes += n.memoryBytes;
     if (s.isLeaf(i)) {
       ++l.leaves;
       leafTriangles += n.numTri;
@@ -76,7 +77,8 @@ int runInfo(const Argv& argv) {
                              {"nodes", l.nodes},
                              {"leaves", l.leaves},
                              {"triangles", l.triangles},
-                             {"payloadBytes", l.payloadBytes}});
+                             {"payloadBytes", l.payloadBytes},
+                             {"memoryBytes", l.memoryBytes}});
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -89,11 +91,15 @@ int runInfo(const Argv& argv) {
   std::printf("depth         %zu\n", depth);
   std::printf("triangles     %llu input, %llu at the leaves\n",
               (unsigned long long)f.inputTriangles, (unsigned long long)leafTriangles);
-  std::printf("payload       %.2f MB\n", double(f.payloadBytes) / 1e6);
-  std::printf("\n  level     nodes    leaves     triangles   payload MB\n");
+  std::uint64_t memory = 0;
+  for (const auto& [d, l] : levels) memory += l.memoryBytes;
+  std::printf("payload       %.2f MB stored (deflated), %.2f MB decoded\n",
+              double(f.payloadBytes) / 1e6, double(memory) / 1e6);
+  std::printf("\n  level     nodes    leaves     triangles   stored MB  decoded MB\n");
   for (const auto& [d, l] : levels)
-    std::printf("  %5u  %8zu  %8zu  %12llu  %11.2f\n", d, l.nodes, l.leaves,
-                (unsigned long long)l.triangles, double(l.payloadBytes) / 1e6);
+    std::printf("  %5u  %8zu  %8zu  %12llu  %10.2f  %10.2f\n", d, l.nodes, l.leaves,
+                (unsigned long long)l.triangles, double(l.payloadBytes) / 1e6,
+                double(l.memoryBytes) / 1e6);
   return 0;
 }
 
