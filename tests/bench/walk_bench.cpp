@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "hlod/City.h"
@@ -142,29 +143,23 @@ int main(int argc, char** argv) {
     service::PathSessionOptions o = base;
     if (io) o.ioMbps = 50.0, o.ioLatencyMs = 5.0;
     const std::string link = io ? ", 50 Mbit/s 5 ms" : ", unthrottled";
-    Run lakhia;
-    lakhia.name = first + link;
     o.selector = first;
-    auto s = runOnce(store, *path, o, frames, plots, io ? "lakhia_io" : "lakhia");
-    if (!s) {
-      std::fprintf(stderr, "%s\n", s.message().c_str());
-      return 1;
-    }
-    lakhia.s = *s;
-    print(lakhia);
-    std::fflush(stdout);
-    if (prefetch) {
-      Run ahead;
-      ahead.name = first + " + prefetch" + link;
-      auto p = runOnce(store, *path, o, frames, plots, io ? "prefetch_io" : "prefetch", 1.0);
-      if (!p) {
-        std::fprintf(stderr, "%s\n", p.message().c_str());
-        return 1;
+    // One run of the chosen selector, printed as it ends.
+    auto measure = [&](const std::string& name, const std::string& prefix,
+                       double prefetchSeconds) -> std::optional<Run> {
+      auto r = runOnce(store, *path, o, frames, plots, prefix + (io ? "_io" : ""), prefetchSeconds);
+      if (!r) {
+        std::fprintf(stderr, "%s\n", r.message().c_str());
+        return std::nullopt;
       }
-      ahead.s = *p;
-      print(ahead);
+      Run run{name + link, *r};
+      print(run);
       std::fflush(stdout);
-    }
+      return run;
+    };
+    const auto lakhia = measure(first, "lakhia", 0.0);
+    if (!lakhia) return 1;
+    if (prefetch && !measure(first + " + prefetch", "prefetch", 1.0)) return 1;
     if (!sse) continue;
     // SSE tuned to Lakhia's mean frame time: bisection on log(pixels), larger = coarser.
     o.selector = "sse";
@@ -179,11 +174,11 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s\n", r.message().c_str());
         return 1;
       }
-      const double gap = std::abs(r->meanGpuMs - lakhia.s.meanGpuMs);
+      const double gap = std::abs(r->meanGpuMs - lakhia->s.meanGpuMs);
       std::fprintf(stderr, "  sse %.2f px: mean %.1f ms (lakhia %.1f)\n", std::exp(mid),
-                   r->meanGpuMs, lakhia.s.meanGpuMs);
+                   r->meanGpuMs, lakhia->s.meanGpuMs);
       if (gap < bestGap) bestGap = gap, best.s = *r, best.ssePixels = std::exp(mid);
-      if (r->meanGpuMs > lakhia.s.meanGpuMs)
+      if (r->meanGpuMs > lakhia->s.meanGpuMs)
         lo = mid;
       else
         hi = mid;

@@ -175,13 +175,23 @@ TEST(NodeStorePayload, OneSidedFlagRoundTrips) {
   }
 }
 
-TEST(NodeStorePayload, ForgedPayloadsWithValidChecksumsAreRejectedOrDecodedSafely) {
+namespace {
+
+// One triangle with texture coordinates and a side x side checker texture.
+LocalMesh texturedTriangle(int side) {
   LocalMesh m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
   m.texCoords = {{0, 0}, {1, 0}, {0, 1}};
   m.indices = {0, 1, 2};
-  m.texture = testmesh::checkerTexture(8, 8);
+  m.texture = testmesh::checkerTexture(side, side);
+  return m;
+}
+
+}  // namespace
+
+TEST(NodeStorePayload, ForgedPayloadsAreRejectedOrDecodedSafely) {
+  const LocalMesh m = texturedTriangle(8);
   const auto good = encodePayload(m);
   auto ok = decodePayloadBytes(good, glm::dvec3(1, 2, 3));
   ASSERT_TRUE(ok) << ok.message();
@@ -212,12 +222,7 @@ TEST(NodeStorePayload, ForgedPayloadsWithValidChecksumsAreRejectedOrDecodedSafel
 
 TEST(NodeStorePayload, StoredDeflatedAndInflatedOnlyToTheRecordedSize) {
   EXPECT_EQ(crc32(std::as_bytes(std::span("123456789", 9))), 0xcbf43926u);  // CRC-32 check value
-  LocalMesh m;
-  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-  m.texCoords = {{0, 0}, {1, 0}, {0, 1}};
-  m.indices = {0, 1, 2};
-  m.texture = testmesh::checkerTexture(64, 64);
+  const LocalMesh m = texturedTriangle(64);
   const auto raw = encodePayload(m);
   const auto stored = compressPayload(raw);
   EXPECT_LT(stored.size(), raw.size() * 2 / 3);  // the checker pattern repeats: it deflates

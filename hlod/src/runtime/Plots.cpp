@@ -83,7 +83,11 @@ std::vector<double> movingAverage(std::span<const double> values, int window) {
 
 std::string lineChartSvg(const PlotSpec& spec) {
   const double W = std::max(200, spec.width), H = std::max(150, spec.height);
-  const double left = 70, right = 170, top = 40, bottom = 55;
+  // The legend sits right of the plot: room for its longest name (about 7.5 px a character).
+  std::size_t longest = 0;
+  for (const PlotSeries& s : spec.series) longest = std::max(longest, s.name.size());
+  const double left = 70, right = std::max(120.0, 55.0 + 7.5 * double(longest)), top = 40,
+               bottom = 55;
   const double pw = W - left - right, ph = H - top - bottom;
   double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
   for (const PlotSeries& s : spec.series) {
