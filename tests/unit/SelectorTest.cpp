@@ -322,14 +322,19 @@ TEST(LakhiaSelector, FeedbackLoopConvergesToTheTargetWithNoisyFrameTime) {
   EXPECT_LT(sumVTimeErr / n, 0.05) << "v_time did not converge to the simulated ms per triangle";
   EXPECT_LT(sumEstErr / n, 0.1) << "estimate does not track the measured frame time";
   // The slices and the budget fill bring the mean frame time into the fill's hysteresis band,
-  // c_aim * (1 +- c_fillMargin) of the target (0.855 to 1.045), give or take the noise.
+  // c_aim * [1 - c_fillAdd, 1 + c_fillKeep] of the target (0.9 to 1.045), give or take noise.
   const LakhiaParams& lp = sel.params().lakhia;
-  EXPECT_GT(sumMeasured / n, 0.97 * lp.c_aim * (1.0 - lp.c_fillMargin) * lp.c_targetTime);
-  EXPECT_LT(sumMeasured / n, 1.03 * lp.c_aim * (1.0 + lp.c_fillMargin) * lp.c_targetTime);
+  EXPECT_GT(sumMeasured / n, 0.97 * lp.c_aim * (1.0 - lp.c_fillAdd) * lp.c_targetTime);
+  EXPECT_LT(sumMeasured / n, 1.03 * lp.c_aim * (1.0 + lp.c_fillKeep) * lp.c_targetTime);
   EXPECT_LT(maxMeasured, 1.4 * sel.targetMs());  // 10% noise on top
 }
 
-TEST(LakhiaSelector, StillCameraStopsTogglingAndNeverOscillates) {
+TEST(LakhiaSelector, StillCameraSettlesAndNeverFlickers) {
+  // A still camera with 10% frame-time noise, twelve noise sequences. The selection settles:
+  // after the first 10 frames, changes are groups with a few % of spare time slowly earning
+  // their switch (urgency) and the fill making room for them, rarer and rarer. No node flickers:
+  // none changes back within 5 s (150 frames). Not asserted: zero toggles after frame 600 for
+  // every sequence; a rare excursion of the noise (one in a few) still moves a group or two.
   SyntheticCity c;
   c.blocksX = 8;
   c.blocksY = 8;
@@ -337,30 +342,40 @@ TEST(LakhiaSelector, StillCameraStopsTogglingAndNeverOscillates) {
   const Skeleton sk = makeSyntheticCity(c);
   SelectorParams p;
   p.lakhia.vTimeInitial = 2e-5;  // the simulated GPU's value: no convergence phase
-  LakhiaSelector sel(sk, p);
-  SimulatedGpu gpu;  // 10% frame-time noise
   const View v = overview(sk);
-  // For each node, the frames at which its drawn/not-drawn state changed after the warm-up.
-  std::vector<int> changes(sk.nodes.size(), 0);
-  std::vector<std::uint8_t> drawn(sk.nodes.size(), 0), now(sk.nodes.size(), 0);
-  int early = 0, middle = 0, late = 0;
-  for (int f = 0; f < 900; ++f) {
-    const Selection s = sel.select(v, AllResident());
-    sel.feedback(gpu.frame(sk, s));
-    const int toggles = static_cast<int>(s.upToggles + s.downToggles);
-    (f < 10 ? early : f < 600 ? middle : late) += toggles;
-    std::fill(now.begin(), now.end(), 0);
-    for (std::uint32_t n : s.front) now[n] = 1;
-    for (std::uint32_t n = 0; n < sk.nodes.size() && f >= 10; ++n) changes[n] += now[n] != drawn[n];
-    drawn.swap(now);
+  int lateAll = 0, quietSequences = 0;
+  for (unsigned seed : {42u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 10u, 11u}) {
+    LakhiaSelector sel(sk, p);
+    SimulatedGpu gpu;
+    gpu.rng.seed(seed);
+    std::vector<int> lastChange(sk.nodes.size(), -1000);
+    std::vector<std::uint8_t> drawn(sk.nodes.size(), 0), now(sk.nodes.size(), 0);
+    int early = 0, middle = 0, late = 0, flickers = 0;
+    std::size_t frontSize = 0;
+    for (int f = 0; f < 900; ++f) {
+      const Selection s = sel.select(v, AllResident());
+      sel.feedback(gpu.frame(sk, s));
+      (f < 10 ? early : f < 600 ? middle : late) += int(s.upToggles + s.downToggles);
+      frontSize = s.front.size();
+      std::fill(now.begin(), now.end(), 0);
+      for (std::uint32_t n : s.front) now[n] = 1;
+      for (std::uint32_t n = 0; n < sk.nodes.size() && f >= 10; ++n) {
+        if (now[n] == drawn[n]) continue;
+        flickers += f - lastChange[n] < 150;
+        lastChange[n] = f;
+      }
+      drawn.swap(now);
+    }
+    EXPECT_GT(early, 0) << seed;  // it did refine from hlod_0 at first
+    EXPECT_LT(middle, 100) << seed;
+    EXPECT_LT(late, 20) << seed;  // of ~900 drawn nodes, in 300 frames
+    EXPECT_EQ(flickers, 0) << seed;
+    EXPECT_GT(frontSize, 500u) << seed;  // settled by staying refined, not by giving up detail
+    lateAll += late;
+    quietSequences += late == 0;
   }
-  EXPECT_GT(early, 0);  // it did refine from hlod_0 at first
-  EXPECT_EQ(late, 0);
-  // The few changes after the first 10 frames are groups with a few % of spare time slowly
-  // earning their switch (urgency), and the budget fill making room for them; none of them flips
-  // back (no oscillation). Settling takes a few hundred frames: the last 300 have no toggle.
-  EXPECT_LT(middle, 100);  // of ~900 drawn nodes
-  for (std::uint32_t n = 0; n < sk.nodes.size(); ++n) EXPECT_LE(changes[n], 1) << "node " << n;
+  EXPECT_LT(lateAll, 60);
+  EXPECT_GE(quietSequences, 6);  // most sequences have no toggle at all in the last 300 frames
 }
 
 TEST(LakhiaSelector, TogglesCountRefinementsAndCoarsenings) {

@@ -171,7 +171,7 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
   // Level 0: the visible hlod_0 nodes share c_targetTime: what is left of it for the drawing,
   // times c_aim.
   const double aim = params_.lakhia.c_aim;
-  aimMs_ = s.drawBudgetMs * (std::isfinite(aim) ? std::clamp(aim, 0.1, 1.0) : 1.0);
+  aimMs_ = s.drawBudgetMs * std::clamp(finiteOr(aim, 1.0), 0.1, 1.0);
   std::vector<std::uint32_t> visible;
   for (std::uint32_t r : skeleton_.roots) {
     if (r < nodes.size() && visit(r)) visible.push_back(r);
@@ -201,12 +201,15 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
   // priority, that is a third of the budget. The rest of c_targetTime is spent here on further
   // refinements in priority order, as long as each fits whole. Hysteresis on the frame's total:
   // nodes refined last frame are taken first and stay refined while the total is within
-  // (1 + c_fillMargin) of the aim; new refinements are made only below (1 - c_fillMargin).
-  const double margin = std::clamp(params_.lakhia.c_fillMargin, 0.0, 0.9);
-  const double keepLimit = aimMs_ * (1.0 + margin);
-  const double addLimit = aimMs_ * (1.0 - margin);
-  double total = vTime() * s.estimatedCost;  // the drawing's part of the frame
-  if (!(total < keepLimit) || !std::isfinite(total)) return;
+  // (1 + c_fillKeep) of the aim; new refinements are made only below (1 - c_fillAdd).
+  const LakhiaParams& p = params_.lakhia;
+  const double keepLimit = aimMs_ * (1.0 + std::clamp(finiteOr(p.c_fillKeep, 0.1), 0.0, 1.0));
+  const double addLimit = aimMs_ * (1.0 - std::clamp(finiteOr(p.c_fillAdd, 0.05), 0.0, 0.9));
+  // Kept refinements are judged by v_time; new ones by the larger of v_time and its steadier
+  // twin, so that noise does not add what it would later take back.
+  const double vKeep = vTime(), vAdd = std::max(vTime(), vTimeSteady());
+  double cost = s.estimatedCost;  // the drawing's part of the frame, in cost units
+  if (!(vKeep * cost < keepLimit) || !std::isfinite(cost)) return;
   const auto& nodes = skeleton_.nodes;
   // Nodes refined last frame come first (they keep their refinement while it still fits), then
   // the others by priority.
@@ -235,11 +238,11 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
       resident = resident && residency.isResident(c);
     }
     if (!resident) continue;
-    const double step = std::max(0.0, vTime() * (childCost - effectiveCost(n)));
+    const double step = std::max(0.0, childCost - effectiveCost(n));
     // Inside the band [addLimit, keepLimit] nothing changes.
-    const double limit = refinedLastFrame(n) ? keepLimit : addLimit;
-    if (total + step > limit) continue;
-    total += step;
+    const bool kept = refinedLastFrame(n);
+    if ((kept ? vKeep : vAdd) * (cost + step) > (kept ? keepLimit : addLimit)) continue;
+    cost += step;
     replaceByChildren(n, children, s);
     for (std::uint32_t c : children) push(c);
   }

@@ -39,6 +39,9 @@ Selector::Selector(const Skeleton& skeleton, const SelectorParams& params)
       params_(params),
       feedback_(params.lakhia.vTimeInitial, params.lakhia.feedbackGain,
                 params.lakhia.feedbackMaxRatio),
+      steadyFeedback_(params.lakhia.vTimeInitial,
+                      params.lakhia.c_fillGain,
+                      params.lakhia.feedbackMaxRatio),
       drawnFrame_(skeleton.nodes.size(), kNever),
       drawnBefore_(skeleton.nodes.size(), kNever),
       refinedFrame_(skeleton.nodes.size(), kNever) {
@@ -47,6 +50,7 @@ Selector::Selector(const Skeleton& skeleton, const SelectorParams& params)
 
 void Selector::feedback(double measuredMs) {
   feedback_.update(measuredMs, lastEstimatedCost_);
+  steadyFeedback_.update(measuredMs, lastEstimatedCost_);
 }
 
 double Selector::effectiveCost(std::uint32_t node) const {
