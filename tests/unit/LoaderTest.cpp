@@ -290,20 +290,60 @@ TEST(Loader, PrefetchLoadsNodesThatNoFrameWantsYet) {
   EXPECT_TRUE(loader.waitUntilResident(std::vector<std::uint32_t>{a}, std::chrono::seconds(1)));
 }
 
-TEST(Loader, ThrottlingEmulatesLatencyAndBandwidth) {
+TEST(Loader, ThrottlingEmulatesLatencyPerRequestAndBandwidth) {
   MemoryNodeSource src(makeSyntheticCity(smallCity()));
+  const Skeleton& sk = src.skeleton();
   LoaderParams p;
-  p.chunkBytes = 48000;
+  p.chunkBytes = 24000;  // two chunks a node
   p.ioLatencyMs = 5.0;
-  p.ioMbps = 96.0;  // 48000 bytes = 384000 bits: 4 ms
+  p.ioMbps = 96.0;  // 24000 bytes = 192000 bits: 2 ms
   Loader loader(src, p);
   ASSERT_TRUE(loader.loadRoots().ok());
-  loader.setWanted(requests({{src.skeleton().nodes[0].firstChild, 1.0}}));
-  const auto t0 = std::chrono::steady_clock::now();
-  EXPECT_TRUE(loader.step());
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_GE(ms, 9.0);
+  const std::uint64_t rootRequests = loader.counters().requests;
+  EXPECT_GE(rootRequests, 1u);
+  // A child of the second root: its payload does not follow the last one read.
+  const std::uint32_t a = sk.nodes[sk.roots[1]].firstChild, b = a + 1;
+  ASSERT_EQ(sk.nodes[b].parent, sk.nodes[a].parent);
+  ASSERT_EQ(sk.nodes[b].payloadOffset, sk.nodes[a].payloadOffset + sk.nodes[a].payloadSize);
+  loader.setWanted(requests({{a, 1.0}, {b, 0.5}}));
+  auto timedStep = [&] {
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_TRUE(loader.step());
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  EXPECT_GE(timedStep(), 7.0);  // a new request: latency and transfer
+  EXPECT_EQ(loader.counters().requests, rootRequests + 1);
+  EXPECT_GE(timedStep(), 2.0);  // its second chunk goes on with the same request
+  timedStep();                  // the decode
+  ASSERT_TRUE(loader.isResident(a));
+  EXPECT_GE(timedStep(), 2.0);  // b is stored right after a: still the same request
+  EXPECT_EQ(loader.counters().requests, rootRequests + 1);
+  while (loader.step()) {
+  }
+  EXPECT_TRUE(loader.isResident(b));
+}
+
+TEST(Loader, TakesTheNextSiblingUnlessSomethingFarMoreImportantWaits) {
+  MemoryNodeSource src(makeSyntheticCity(smallCity()));
+  const Skeleton& sk = src.skeleton();
+  Loader loader(src, LoaderParams{});
+  ASSERT_TRUE(loader.loadRoots().ok());
+  const std::uint32_t a = sk.nodes[sk.roots[0]].firstChild, b = a + 1;
+  const std::uint32_t other = sk.nodes[sk.roots[1]].firstChild;
+  // other is a bit more important than a's sibling b: b still comes first, continuing the read.
+  loader.setWanted(requests({{a, 3.0}, {other, 2.0}, {b, 1.0}}));
+  while (!loader.isResident(a)) ASSERT_TRUE(loader.step());
+  while (!loader.isResident(b) && !loader.isResident(other)) ASSERT_TRUE(loader.step());
+  EXPECT_TRUE(loader.isResident(b));
+  EXPECT_FALSE(loader.isResident(other));
+  // Far more important (more than 1 / c_siblingRatio times): it goes first.
+  Loader second(src, LoaderParams{});
+  ASSERT_TRUE(second.loadRoots().ok());
+  second.setWanted(requests({{a, 30.0}, {other, 20.0}, {b, 1.0}}));
+  while (!second.isResident(a)) ASSERT_TRUE(second.step());
+  while (!second.isResident(b) && !second.isResident(other)) ASSERT_TRUE(second.step());
+  EXPECT_TRUE(second.isResident(other));
+  EXPECT_FALSE(second.isResident(b));
 }
 
 TEST(Loader, BackgroundThreadLoadsWhatTheSelectorWantsWithoutTheRenderThreadWaiting) {

@@ -46,7 +46,6 @@ class LakhiaSelector final : public Selector {
   double hyst(std::uint32_t node) const { return hyst_[node]; }
   double timeSlice(std::uint32_t node) const { return timeSlice_[node]; }
   double timeNeeded(std::uint32_t node) const;
-  double aimMs() const { return aimMs_; }  // c_aim * the drawing's budget: what the slices share
   double priority(std::uint32_t node) const { return priority_[node]; }
   bool visitedLastFrame(std::uint32_t node) const { return visitFrame_[node] == frame_; }
 
@@ -66,7 +65,7 @@ class LakhiaSelector final : public Selector {
   std::vector<std::uint32_t> evaluatedFrame_;  // frame priority_ and visible_ were computed
   std::vector<std::uint8_t> visible_;          // in the frustum, as of evaluatedFrame_
   std::vector<std::uint8_t> capped_;           // sliceSiblings scratch
-  double aimMs_ = 0.0;
+  double aimMs_ = 0.0;  // c_aim * the drawing's budget this frame: what the slices share
 };
 
 }  // namespace hlod

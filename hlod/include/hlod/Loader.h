@@ -45,7 +45,14 @@ struct LoaderParams {
   double maxMemory = std::numeric_limits<double>::infinity();  // bytes, with c_memory
   std::uint64_t capBytes = 0;  // hard cap on resident + in-progress payload bytes; 0 = no cap
   double ioMbps = 0.0;         // emulated link speed, megabits per second; 0 = unthrottled
-  double ioLatencyMs = 0.0;    // emulated latency added to every chunk request
+  // Emulated latency of every request. A read that goes on where the previous one ended in the
+  // payload file (the next chunk of a node, or a sibling stored right after it) continues the
+  // same request, as a sequential disk read or a streamed range request does.
+  double ioLatencyMs = 0.0;
+  // Siblings are switched as a group (a parent stays drawn until all its visible children are
+  // resident), so after a node the loader takes its next wanted sibling, stored right after it,
+  // unless the best waiting node is more than 1 / c_siblingRatio times as important.
+  double c_siblingRatio = 0.25;
   bool keepPartial = true;
   std::size_t maxPartials = 4;
 };
@@ -64,6 +71,7 @@ struct LoaderCounters {
   std::uint64_t preemptions = 0;  // a load interrupted for a more important node
   std::uint64_t loadErrors = 0;   // read or decode failures (the node is not retried)
   std::uint64_t bytesRead = 0;
+  std::uint64_t requests = 0;       // reads that did not continue the previous one (paid latency)
   std::uint64_t residentBytes = 0;  // decoded payload bytes (memoryBytes) of resident nodes
   std::uint64_t inFlightBytes = 0;  // memoryBytes reserved by loads in progress
   std::uint64_t capBytes = 0;       // LoaderParams::capBytes (0 = none)
@@ -126,7 +134,8 @@ class Loader final : public Residency {
   bool hasResidentChildLocked(std::uint32_t node) const;
   void dropPartialLocked(std::uint32_t node);
   void finishLocked(std::uint32_t node, Result<LocalMesh> mesh);
-  void throttle(std::size_t bytes) const;
+  // Sleeps as the emulated link would for a read of len bytes at offset of node's payload.
+  void throttle(std::uint32_t node, std::uint64_t offset, std::size_t len);
   void run();
 
   const NodeSource& source_;
@@ -144,6 +153,8 @@ class Loader final : public Residency {
   bool orderDirty_ = true;
   std::map<std::uint32_t, std::unique_ptr<Partial>> partials_;
   std::uint32_t current_ = kNoNode;
+  std::uint32_t lastFinished_ = kNoNode;  // the node whose load completed last
+  std::uint64_t streamEnd_ = ~0ull;       // payload.bin offset where the last read ended
   std::vector<LoaderEvent> events_;
   LoaderCounters counters_;
   std::string lastError_;

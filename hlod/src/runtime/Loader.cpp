@@ -37,7 +37,7 @@ Status Loader::loadRoots() {
     for (std::uint64_t off = 0; off < size; off += params_.chunkBytes) {
       const std::size_t len =
           static_cast<std::size_t>(std::min<std::uint64_t>(params_.chunkBytes, size - off));
-      throttle(len);
+      throttle(r, off, len);
       Status s = source_.readPayloadChunk(r, off, std::span<std::byte>(bytes.data() + off, len));
       if (!s) return makeError("hlod_0 node " + std::to_string(r) + ": " + s.message());
     }
@@ -223,6 +223,18 @@ std::uint32_t Loader::chooseLocked() {
   // lower-priority successor that does (it may evict less): try a few, not the whole list,
   // since each try scans the resident set.
   int roomTries = 4;
+  // The next sibling of the node loaded last, stored right after it: it continues the read, and
+  // its group switches only once all of it is resident.
+  const std::uint32_t next = lastFinished_ == kNoNode ? kNoNode : lastFinished_ + 1;
+  if (next < resident_.size() && !resident_[next] && !failed_[next] &&
+      skeleton_.nodes[next].parent == skeleton_.nodes[lastFinished_].parent &&
+      skeleton_.nodes[next].parent < resident_.size() && resident_[skeleton_.nodes[next].parent]) {
+    const double p = priorityOf(next);
+    const double best = order_.empty() ? 0.0 : order_.front().first;
+    if (p >= 0.0 && p >= params_.c_siblingRatio * best &&
+        (partials_.count(next) || makeRoomLocked(next, p)))
+      return next;
+  }
   for (const auto& [p, n] : order_) {
     if (resident_[n] || failed_[n]) continue;
     const std::uint32_t parent = skeleton_.nodes[n].parent;
@@ -234,9 +246,17 @@ std::uint32_t Loader::chooseLocked() {
   return kNoNode;
 }
 
-void Loader::throttle(std::size_t bytes) const {
-  double ms = std::max(0.0, params_.ioLatencyMs);
-  if (params_.ioMbps > 0.0) ms += static_cast<double>(bytes) * 8.0 / (params_.ioMbps * 1e3);
+void Loader::throttle(std::uint32_t node, std::uint64_t offset, std::size_t len) {
+  // Called with stepMutex_ held: streamEnd_ is the step's state.
+  const std::uint64_t at = skeleton_.nodes[node].payloadOffset + offset;
+  const bool continues = at == streamEnd_;
+  streamEnd_ = at + len;
+  if (!continues) {
+    std::lock_guard lock(mutex_);
+    ++counters_.requests;
+  }
+  double ms = continues ? 0.0 : std::max(0.0, params_.ioLatencyMs);
+  if (params_.ioMbps > 0.0) ms += static_cast<double>(len) * 8.0 / (params_.ioMbps * 1e3);
   if (ms > 0.0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(ms));
 }
 
@@ -292,7 +312,7 @@ bool Loader::step() {
   }
   // Only step() changes partials_, and steps are serialised: `part` stays valid unlocked.
   if (len > 0) {
-    throttle(len);
+    throttle(node, offset, len);
     Status s = source_.readPayloadChunk(node, offset,
                                         std::span<std::byte>(part->bytes.data() + offset, len));
     std::lock_guard lock(mutex_);
@@ -326,6 +346,7 @@ void Loader::finishLocked(std::uint32_t node, Result<LocalMesh> mesh) {
   resident_[node] = shared;
   residentFlag_[node].store(true);
   counters_.residentBytes += n.memoryBytes;
+  lastFinished_ = node;
   counters_.residentCost += n.cost;
   ++counters_.residentNodes;
   ++counters_.loadsFinished;
