@@ -223,24 +223,26 @@ std::uint32_t Loader::chooseLocked() {
   // lower-priority successor that does (it may evict less): try a few, not the whole list,
   // since each try scans the resident set.
   int roomTries = 4;
+  // Loadable now: not resident, not failed, its parent resident; and it fits in memory
+  // (partial buffers have theirs reserved already).
+  auto loadable = [&](std::uint32_t n) {
+    if (resident_[n] || failed_[n]) return false;
+    const std::uint32_t parent = skeleton_.nodes[n].parent;
+    return parent == kNoNode || (parent < resident_.size() && resident_[parent]);
+  };
+  auto fits = [&](std::uint32_t n, double p) { return partials_.count(n) || makeRoomLocked(n, p); };
   // The next sibling of the node loaded last, stored right after it: it continues the read, and
   // its group switches only once all of it is resident.
   const std::uint32_t next = lastFinished_ == kNoNode ? kNoNode : lastFinished_ + 1;
-  if (next < resident_.size() && !resident_[next] && !failed_[next] &&
-      skeleton_.nodes[next].parent == skeleton_.nodes[lastFinished_].parent &&
-      skeleton_.nodes[next].parent < resident_.size() && resident_[skeleton_.nodes[next].parent]) {
+  if (next < resident_.size() && skeleton_.nodes[next].parent != kNoNode &&
+      skeleton_.nodes[next].parent == skeleton_.nodes[lastFinished_].parent && loadable(next)) {
     const double p = priorityOf(next);
     const double best = order_.empty() ? 0.0 : order_.front().first;
-    if (p >= 0.0 && p >= params_.c_siblingRatio * best &&
-        (partials_.count(next) || makeRoomLocked(next, p)))
-      return next;
+    if (p >= 0.0 && p >= params_.c_siblingRatio * best && fits(next, p)) return next;
   }
   for (const auto& [p, n] : order_) {
-    if (resident_[n] || failed_[n]) continue;
-    const std::uint32_t parent = skeleton_.nodes[n].parent;
-    if (parent != kNoNode && (parent >= resident_.size() || !resident_[parent])) continue;
-    if (partials_.count(n)) return n;  // memory already reserved
-    if (makeRoomLocked(n, p)) return n;
+    if (!loadable(n)) continue;
+    if (fits(n, p)) return n;
     if (--roomTries == 0) break;
   }
   return kNoNode;
