@@ -323,6 +323,60 @@ TEST(Loader, ThrottlingEmulatesLatencyPerRequestAndBandwidth) {
   EXPECT_TRUE(loader.isResident(b));
 }
 
+TEST(Loader, RequestsInFlightHideTheLatencyBehindTransfers) {
+  MemoryNodeSource src(makeSyntheticCity(smallCity()));
+  const Skeleton& sk = src.skeleton();
+  // Last children of the four roots: none stored right after another or after the roots, so
+  // each is a new request.
+  std::vector<std::uint32_t> nodes;
+  for (std::uint32_t r : sk.roots)
+    nodes.push_back(sk.nodes[r].firstChild + sk.nodes[r].childCount - 1);
+  ASSERT_EQ(nodes.size(), 4u);
+  auto end = [&](std::uint32_t n) { return sk.nodes[n].payloadOffset + sk.nodes[n].payloadSize; };
+  for (std::uint32_t n : nodes) {
+    for (std::uint32_t m : nodes) ASSERT_NE(sk.nodes[n].payloadOffset, end(m));
+    for (std::uint32_t r : sk.roots) ASSERT_NE(sk.nodes[n].payloadOffset, end(r));
+  }
+  LoaderParams p;
+  p.chunkBytes = 48000;  // one chunk a node
+  p.ioMbps = 38.4;       // 48000 bytes in 10 ms: longer than the latency
+  p.ioLatencyMs = 8.0;
+  // Emulated latency waited for while loading `nodes`, with `inFlight` requests on the link.
+  auto latencyFor = [&](std::size_t inFlight) {
+    p.ioRequests = inFlight;
+    Loader loader(src, p);
+    EXPECT_TRUE(loader.loadRoots().ok());
+    const LoaderCounters before = loader.counters();
+    loader.setWanted(
+        requests({{nodes[0], 4.0}, {nodes[1], 3.0}, {nodes[2], 2.0}, {nodes[3], 1.0}}));
+    while (loader.step()) {
+    }
+    for (std::uint32_t n : nodes) EXPECT_TRUE(loader.isResident(n));
+    EXPECT_EQ(loader.counters().requests - before.requests, 4u);  // as many either way
+    return loader.counters().latencyMs - before.latencyMs;
+  };
+  EXPECT_NEAR(latencyFor(1), 4 * 8.0, 1e-9);  // one at a time: every request waits
+  // Four in flight: the three behind the first were requested with it and waited during its
+  // transfer (sleeps are lower bounds, so at least 10 ms passed): only the first one waits.
+  EXPECT_NEAR(latencyFor(4), 8.0, 1e-9);
+
+  // A request that drops out of the window is cancelled: back in it, it waits all over again.
+  p.ioRequests = 2;
+  Loader loader(src, p);
+  ASSERT_TRUE(loader.loadRoots().ok());
+  const double before = loader.counters().latencyMs;
+  loader.setWanted(requests({{nodes[0], 2.0}, {nodes[1], 1.0}}));  // nodes[1] requested ahead
+  ASSERT_TRUE(loader.step());                                      // nodes[0] read
+  loader.setWanted(requests({{nodes[0], 2.0}}));                   // nodes[1] cancelled
+  while (loader.step()) {
+  }
+  loader.setWanted(requests({{nodes[1], 1.0}}));
+  while (loader.step()) {
+  }
+  EXPECT_TRUE(loader.isResident(nodes[1]));
+  EXPECT_NEAR(loader.counters().latencyMs - before, 2 * 8.0, 1e-9);
+}
+
 TEST(Loader, TakesTheNextSiblingUnlessSomethingFarMoreImportantWaits) {
   MemoryNodeSource src(makeSyntheticCity(smallCity()));
   const Skeleton& sk = src.skeleton();

@@ -49,6 +49,11 @@ struct LoaderParams {
   // payload file (the next chunk of a node, or a sibling stored right after it) continues the
   // same request, as a sequential disk read or a streamed range request does.
   double ioLatencyMs = 0.0;
+  // Requests in flight on the emulated link, as an HTTP/2 client or a disk queue keeps them:
+  // while one node streams, the next ioRequests - 1 loadable nodes in priority order are
+  // already requested, so their latency runs during that transfer (a node that drops out of
+  // them is cancelled, and pays its full latency if it comes back). 1: one at a time.
+  std::size_t ioRequests = 4;
   // Siblings are switched as a group (a parent stays drawn until all its visible children are
   // resident), so after a node the loader takes its next wanted sibling, stored right after it,
   // unless the best waiting node is more than 1 / c_siblingRatio times as important.
@@ -71,7 +76,8 @@ struct LoaderCounters {
   std::uint64_t preemptions = 0;  // a load interrupted for a more important node
   std::uint64_t loadErrors = 0;   // read or decode failures (the node is not retried)
   std::uint64_t bytesRead = 0;
-  std::uint64_t requests = 0;       // reads that did not continue the previous one (paid latency)
+  std::uint64_t requests = 0;       // reads that did not continue the previous one
+  double latencyMs = 0.0;           // emulated latency waited for (what pipelining left)
   std::uint64_t residentBytes = 0;  // decoded payload bytes (memoryBytes) of resident nodes
   std::uint64_t inFlightBytes = 0;  // memoryBytes reserved by loads in progress
   std::uint64_t capBytes = 0;       // LoaderParams::capBytes (0 = none)
@@ -136,6 +142,9 @@ class Loader final : public Residency {
   void finishLocked(std::uint32_t node, Result<LocalMesh> mesh);
   // Sleeps as the emulated link would for a read of len bytes at offset of node's payload.
   void throttle(std::uint32_t node, std::uint64_t offset, std::size_t len);
+  // Requests the next ioRequests - 1 candidates after `chosen` (see LoaderParams::ioRequests).
+  template <class Loadable>
+  void issueAheadLocked(std::uint32_t chosen, Loadable&& loadable);
   void run();
 
   const NodeSource& source_;
@@ -155,6 +164,8 @@ class Loader final : public Residency {
   std::uint32_t current_ = kNoNode;
   std::uint32_t lastFinished_ = kNoNode;  // the node whose load completed last
   std::uint64_t streamEnd_ = ~0ull;       // payload.bin offset where the last read ended
+  // Nodes requested ahead on the emulated link, with the time their request went out.
+  std::unordered_map<std::uint32_t, std::chrono::steady_clock::time_point> issued_;
   std::vector<LoaderEvent> events_;
   LoaderCounters counters_;
   std::string lastError_;

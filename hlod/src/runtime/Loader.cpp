@@ -22,6 +22,28 @@ Loader::Loader(const NodeSource& source, LoaderParams params)
   counters_.capBytes = params_.capBytes;
 }
 
+template <class Loadable>
+void Loader::issueAheadLocked(std::uint32_t chosen, Loadable&& loadable) {
+  if (!(params_.ioLatencyMs > 0.0)) return;
+  const auto now = std::chrono::steady_clock::now();
+  const std::size_t ahead = std::max<std::size_t>(1, params_.ioRequests) - 1;
+  std::unordered_map<std::uint32_t, std::chrono::steady_clock::time_point> kept;
+  auto consider = [&](std::uint32_t n) {
+    if (kept.size() >= ahead || n == chosen || kept.count(n) || !loadable(n)) return;
+    auto it = issued_.find(n);
+    kept.emplace(n, it != issued_.end() ? it->second : now);
+  };
+  if (chosen < resident_.size() && isRoot_[chosen]) {
+    for (std::uint32_t r : skeleton_.roots) consider(r);
+  } else {
+    for (const auto& [p, n] : order_) consider(n);
+  }
+  // The chosen node keeps its issue time until throttle() consumes it; the rest not in the
+  // window is cancelled.
+  if (auto it = issued_.find(chosen); it != issued_.end()) kept.insert(*it);
+  issued_.swap(kept);
+}
+
 Loader::~Loader() {
   stop();
 }
@@ -32,6 +54,11 @@ Status Loader::loadRoots() {
     if (r >= resident_.size())
       return makeError("hlod_0 node " + std::to_string(r) + " out of range");
     if (residentFlag_[r].load()) continue;
+    {
+      // The next roots are requested while this one streams, as in the loading thread.
+      std::lock_guard lock(mutex_);
+      issueAheadLocked(r, [&](std::uint32_t n) { return isRoot_[n] && !resident_[n]; });
+    }
     const std::uint64_t size = skeleton_.nodes[r].payloadSize;
     std::vector<std::byte> bytes(size);
     for (std::uint64_t off = 0; off < size; off += params_.chunkBytes) {
@@ -234,18 +261,26 @@ std::uint32_t Loader::chooseLocked() {
   // The next sibling of the node loaded last, stored right after it: it continues the read, and
   // its group switches only once all of it is resident.
   const std::uint32_t next = lastFinished_ == kNoNode ? kNoNode : lastFinished_ + 1;
+  std::uint32_t chosen = kNoNode;
   if (next < resident_.size() && skeleton_.nodes[next].parent != kNoNode &&
       skeleton_.nodes[next].parent == skeleton_.nodes[lastFinished_].parent && loadable(next)) {
     const double p = priorityOf(next);
     const double best = order_.empty() ? 0.0 : order_.front().first;
-    if (p >= 0.0 && p >= params_.c_siblingRatio * best && fits(next, p)) return next;
+    if (p >= 0.0 && p >= params_.c_siblingRatio * best && fits(next, p)) chosen = next;
   }
   for (const auto& [p, n] : order_) {
+    if (chosen != kNoNode) break;
     if (!loadable(n)) continue;
-    if (fits(n, p)) return n;
-    if (--roomTries == 0) break;
+    if (fits(n, p))
+      chosen = n;
+    else if (--roomTries == 0)
+      break;
   }
-  return kNoNode;
+  if (chosen != kNoNode)
+    issueAheadLocked(chosen, loadable);
+  else
+    issued_.clear();  // idle: nothing stays requested
+  return chosen;
 }
 
 void Loader::throttle(std::uint32_t node, std::uint64_t offset, std::size_t len) {
@@ -253,11 +288,19 @@ void Loader::throttle(std::uint32_t node, std::uint64_t offset, std::size_t len)
   const std::uint64_t at = skeleton_.nodes[node].payloadOffset + offset;
   const bool continues = at == streamEnd_;
   streamEnd_ = at + len;
+  double ms = 0.0;
   if (!continues) {
+    // A new request: its latency, less what has passed since it was requested ahead.
+    const auto now = std::chrono::steady_clock::now();
     std::lock_guard lock(mutex_);
     ++counters_.requests;
+    ms = std::max(0.0, params_.ioLatencyMs);
+    if (auto it = issued_.find(node); it != issued_.end()) {
+      ms = std::max(0.0, ms - std::chrono::duration<double, std::milli>(now - it->second).count());
+      issued_.erase(it);
+    }
+    counters_.latencyMs += ms;
   }
-  double ms = continues ? 0.0 : std::max(0.0, params_.ioLatencyMs);
   if (params_.ioMbps > 0.0) ms += static_cast<double>(len) * 8.0 / (params_.ioMbps * 1e3);
   if (ms > 0.0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(ms));
 }
