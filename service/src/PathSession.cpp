@@ -121,6 +121,7 @@ hlod::Status PathSession::init() {
   lp.capBytes = options_.memoryCapBytes;
   lp.ioMbps = options_.ioMbps;
   lp.ioLatencyMs = options_.ioLatencyMs;
+  lp.ioRequests = options_.ioRequests;
   st.loader = std::make_unique<hlod::Loader>(*source_, lp);
   auto roots = st.loader->loadRoots();
   if (!roots) return roots.error();

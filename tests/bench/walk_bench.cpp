@@ -1,6 +1,7 @@
 // Lakhia IV on the default city: the walk-to-fly path at 1280x720, 33 ms budget, realtime mode,
 // with the Lakhia selector and with the SSE selector tuned (bisection on its pixel threshold) to
-// the same mean frame time; each unthrottled and behind an emulated 50 Mbit/s, 5 ms link; and
+// the same mean frame time; each unthrottled and behind an emulated 50 Mbit/s, 5 ms link (4
+// requests in flight, --io-requests); and
 // Lakhia with the known-path prefetch (1 s ahead). Prints per run: median and p95 of
 // |actual - target| / target, share of frames over target and over 1.25x, p99 of actual /
 // target, stalls, peak resident bytes / cap, toggles per frame, triangles drawn per frame and
@@ -8,8 +9,10 @@
 //
 // Run: ./walk_bench [STORE] [--frames N] [--memory-mb M] [--plots DIR] [--lakhia-only]
 //                   [--no-prefetch] [--unthrottled-only | --throttled-only]
+//                   [--params NAME=VALUE,...] [--io-requests N]
 // --plots DIR keeps each run's stats.json/csv and the three plots in DIR/RUN/.
 // Without STORE the default city is generated and built under ./walk_bench_data (once).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -72,6 +75,8 @@ int main(int argc, char** argv) {
   std::string first = "lakhia";
   int ioFirst = 0, ioLast = 1;
   std::filesystem::path plots;
+  std::size_t ioRequests = 4;   // requests in flight on the throttled link
+  hlod::SelectorParams params;  // --params: the selector constants (see hlodr render --params)
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--frames" && i + 1 < argc) {
@@ -90,11 +95,19 @@ int main(int argc, char** argv) {
       ioFirst = 1;
     } else if (a == "--plots" && i + 1 < argc) {
       plots = argv[++i];
+    } else if (a == "--io-requests" && i + 1 < argc) {
+      ioRequests = static_cast<std::size_t>(std::max(1LL, std::atoll(argv[++i])));
+    } else if (a == "--params" && i + 1 < argc) {
+      if (auto p = hlod::setSelectorParams(params, argv[++i]); !p) {
+        std::fprintf(stderr, "walk_bench: %s\n", p.message().c_str());
+        return 2;
+      }
     } else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr,
                    "usage: walk_bench [STORE] [--frames N] [--memory-mb M] [--plots DIR]\n"
                    "                  [--lakhia-only] [--no-prefetch]\n"
-                   "                  [--unthrottled-only | --throttled-only]\n");
+                   "                  [--unthrottled-only | --throttled-only]\n"
+                   "                  [--params NAME=VALUE,...] [--io-requests N]\n");
       return 2;
     } else {
       store = a;
@@ -134,6 +147,7 @@ int main(int argc, char** argv) {
   base.budgetMs = 33.0;
   base.mode = service::PathMode::Realtime;
   base.memoryCapBytes = std::uint64_t(memoryMb * 1024 * 1024);
+  base.selectorParams = params;
   std::printf("walk-fly %.1f s at 30 fps, 1280x720, budget 33 ms, realtime, cap %.0f MB\n",
               path->duration(), memoryMb);
   std::printf("%-30s %6s %7s %7s %7s %7s %7s %6s %7s %7s %7s %7s\n", "run", "mean", "med|d|",
@@ -141,7 +155,7 @@ int main(int argc, char** argv) {
               "crs/fr");
   for (int io = ioFirst; io <= ioLast; ++io) {
     service::PathSessionOptions o = base;
-    if (io) o.ioMbps = 50.0, o.ioLatencyMs = 5.0;
+    if (io) o.ioMbps = 50.0, o.ioLatencyMs = 5.0, o.ioRequests = ioRequests;
     const std::string link = io ? ", 50 Mbit/s 5 ms" : ", unthrottled";
     o.selector = first;
     // One run of the chosen selector, printed as it ends.

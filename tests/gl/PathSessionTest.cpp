@@ -247,4 +247,14 @@ TEST_F(PathSessionTest, CliRejectsBadOptionsAndBadPaths) {
                     (out / "frames").string() + " --mode sometimes");
   EXPECT_EQ(m.status, 2);
   EXPECT_NE(m.output.find("--mode"), std::string::npos) << m.output;
+
+  const std::string run = "render " + store + " --path " + (out / "bad.json").string() + " -o " +
+                          (out / "frames").string();
+  auto u = runHlodr(run + " --params c_aim=1,c_nope=2");
+  EXPECT_EQ(u.status, 2);
+  EXPECT_NE(u.output.find("unknown parameter 'c_nope'"), std::string::npos) << u.output;
+  EXPECT_NE(u.output.find("c_fillKeep"), std::string::npos) << u.output;  // lists the known ones
+  auto q = runHlodr(run + " --io-requests 0");
+  EXPECT_EQ(q.status, 2);
+  EXPECT_NE(q.output.find("io-requests"), std::string::npos) << q.output;
 }

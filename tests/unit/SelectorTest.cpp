@@ -322,7 +322,7 @@ TEST(LakhiaSelector, FeedbackLoopConvergesToTheTargetWithNoisyFrameTime) {
   EXPECT_LT(sumVTimeErr / n, 0.05) << "v_time did not converge to the simulated ms per triangle";
   EXPECT_LT(sumEstErr / n, 0.1) << "estimate does not track the measured frame time";
   // The slices and the budget fill bring the mean frame time into the fill's hysteresis band,
-  // c_aim * [1 - c_fillAdd, 1 + c_fillKeep] of the target (0.9 to 1.045), give or take noise.
+  // c_aim * [1 - c_fillAdd, 1 + c_fillKeep] of the target (0.95 to 1.05), give or take noise.
   const LakhiaParams& lp = sel.params().lakhia;
   EXPECT_GT(sumMeasured / n, 0.97 * lp.c_aim * (1.0 - lp.c_fillAdd) * lp.c_targetTime);
   EXPECT_LT(sumMeasured / n, 1.03 * lp.c_aim * (1.0 + lp.c_fillKeep) * lp.c_targetTime);
@@ -511,6 +511,46 @@ TEST(VTimeFeedback, OneOutlierFrameMovesVTimeByAtMostMaxRatioPowGain) {
   fb.update(1.0, 0.0);
   fb.update(-1.0, 10.0);
   EXPECT_NEAR(fb.vTime(), 1e-5 * std::pow(4.0, 0.2), 1e-12);
+}
+
+TEST(VTimeFeedback, ALoneOutlierFrameIsDroppedAndAChangeOfTwoFramesFollowed) {
+  const double k = 2e-5, cost = 1e5;
+  VTimeFeedback fb(k, 0.2, 4.0);
+  for (int i = 0; i < 5; ++i) fb.update(k * cost, cost);
+  fb.update(3.0 * k * cost, cost);  // one frame three times as slow: the median ignores it
+  EXPECT_NEAR(fb.vTime(), k, k * 1e-9);
+  for (int i = 0; i < 2; ++i) {  // until it leaves the last three
+    fb.update(k * cost, cost);
+    EXPECT_NEAR(fb.vTime(), k, k * 1e-9);
+  }
+  // The scene got 50% dearer for good: the second such frame moves v_time by 1.5^gain.
+  fb.update(1.5 * k * cost, cost);
+  EXPECT_NEAR(fb.vTime(), k, k * 1e-9);
+  fb.update(1.5 * k * cost, cost);
+  EXPECT_NEAR(fb.vTime(), k * std::pow(1.5, 0.2), k * 1e-9);
+  fb.set(3 * k);  // forgets the observations: the next frame counts alone
+  fb.update(k * cost, cost);
+  EXPECT_NEAR(fb.vTime(), 3 * k * std::pow(1.0 / 3.0, 0.2), k * 1e-9);
+}
+
+TEST(SelectorParams, SetByNameWithClearErrors) {
+  SelectorParams p;
+  ASSERT_TRUE(setSelectorParams(p, "c_aim=0.9,c_vis=2.5,c_hystRefine=0,ssePixels=8").ok());
+  EXPECT_EQ(p.lakhia.c_aim, 0.9);
+  EXPECT_EQ(p.lakhia.c_vis, 2.5);
+  EXPECT_EQ(p.lakhia.c_hystRefine, 0);
+  EXPECT_EQ(p.ssePixels, 8.0);
+  ASSERT_TRUE(setSelectorParams(p, "").ok());                    // nothing to set
+  ASSERT_TRUE(setSelectorParam(p, "c_hystInitial", -2.0).ok());  // a counter may start below 0
+  const SelectorParams before = p;
+  for (const char* bad :
+       {"c_nope=1", "c_aim", "=1", "c_aim=", "c_aim=x", "c_aim=1x", "c_aim=-1", "c_vis=nan",
+        "c_aim=inf", "ssePixels=0", "c_hystRefine=1.5", "c_aim=1,,c_vis=2"}) {
+    const Status s = setSelectorParams(p, bad);
+    EXPECT_FALSE(s.ok()) << bad;
+  }
+  EXPECT_EQ(p.lakhia.c_aim, before.lakhia.c_aim);  // a list with an error sets nothing
+  EXPECT_NE(setSelectorParams(p, "c_nope=1").message().find("c_fillKeep"), std::string::npos);
 }
 
 TEST(SseSelector, RefinesMoreWithASmallerPixelThreshold) {

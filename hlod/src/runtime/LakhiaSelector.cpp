@@ -201,15 +201,19 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
   // priority, that is a third of the budget. The rest of c_targetTime is spent here on further
   // refinements in priority order, as long as each fits whole. Hysteresis on the frame's total:
   // nodes refined last frame are taken first and stay refined while the total is within
-  // (1 + c_fillKeep) of the aim; new refinements are made only below (1 - c_fillAdd).
+  // (1 + c_fillKeep) of the aim by the steady v_time and (1 + c_fillFast) by the fast one; new
+  // refinements are made only below (1 - c_fillAdd).
   const LakhiaParams& p = params_.lakhia;
-  const double keepLimit = aimMs_ * (1.0 + std::clamp(finiteOr(p.c_fillKeep, 0.1), 0.0, 1.0));
+  const double keepLimit = aimMs_ * (1.0 + std::clamp(finiteOr(p.c_fillKeep, 0.05), 0.0, 1.0));
+  const double fastLimit = aimMs_ * (1.0 + std::clamp(finiteOr(p.c_fillFast, 0.1), 0.0, 1.0));
   const double addLimit = aimMs_ * (1.0 - std::clamp(finiteOr(p.c_fillAdd, 0.05), 0.0, 0.9));
-  // Kept refinements are judged by v_time; new ones by the larger of v_time and its steadier
-  // twin, so that noise does not add what it would later take back.
-  const double vKeep = vTime(), vAdd = std::max(vTime(), vTimeSteady());
+  // New refinements are judged by the larger of v_time and its steadier twin, so that noise
+  // does not add what it would later take back.
+  const double vFast = vTime(), vSteady = vTimeSteady(), vAdd = std::max(vFast, vSteady);
+  // Kept: within keepLimit by the steady v_time and within fastLimit by the fast one.
+  auto keeps = [&](double c) { return vSteady * c <= keepLimit && vFast * c <= fastLimit; };
   double cost = s.estimatedCost;  // the drawing's part of the frame, in cost units
-  if (!(vKeep * cost < keepLimit) || !std::isfinite(cost)) return;
+  if (!keeps(cost) || !std::isfinite(cost)) return;
   const auto& nodes = skeleton_.nodes;
   // Nodes refined last frame come first (they keep their refinement while it still fits), then
   // the others by priority.
@@ -241,7 +245,7 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
     const double step = std::max(0.0, childCost - effectiveCost(n));
     // Inside the band [addLimit, keepLimit] nothing changes.
     const bool kept = refinedLastFrame(n);
-    if ((kept ? vKeep : vAdd) * (cost + step) > (kept ? keepLimit : addLimit)) continue;
+    if (kept ? !keeps(cost + step) : vAdd * (cost + step) > addLimit) continue;
     cost += step;
     replaceByChildren(n, children, s);
     for (std::uint32_t c : children) push(c);

@@ -24,13 +24,19 @@ VTimeFeedback::VTimeFeedback(double initial, double gain, double maxRatio)
 
 void VTimeFeedback::set(double vTime) {
   if (std::isfinite(vTime) && vTime > 0.0) vTime_ = std::clamp(vTime, kMinVTime, kMaxVTime);
+  observedCount_ = 0;
 }
 
 void VTimeFeedback::update(double measuredMs, double drawnCost) {
   if (!(std::isfinite(measuredMs) && measuredMs > 0.0)) return;
   if (!(std::isfinite(drawnCost) && drawnCost > 0.0)) return;
-  const double estimated = vTime_ * drawnCost;
-  const double ratio = std::clamp(measuredMs / estimated, 1.0 / maxRatio_, maxRatio_);
+  observed_[observedCount_++ % observed_.size()] = measuredMs / drawnCost;
+  std::array<double, 3> last = observed_;
+  const std::size_t n = std::min(observedCount_, last.size());
+  std::sort(last.begin(), last.begin() + n);
+  // The median of three; of two, the smaller (the newer frame must be confirmed to go up).
+  const double k = n == 3 ? last[1] : last[0];
+  const double ratio = std::clamp(k / vTime_, 1.0 / maxRatio_, maxRatio_);
   vTime_ = std::clamp(vTime_ * std::pow(ratio, gain_), kMinVTime, kMaxVTime);
 }
 

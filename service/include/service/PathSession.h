@@ -44,9 +44,10 @@ struct PathSessionOptions {
   std::uint64_t memoryCapBytes = 0;  // loader cap on payload bytes; 0 = none
   double ioMbps = 0.0;               // emulated link; 0 = unthrottled
   double ioLatencyMs = 0.0;
-  double uploadBudgetMs = 2.0;                     // per-frame upload time (realtime mode)
-  std::uint64_t uploadBudgetBytes = 0;             // per-frame upload bytes; 0 = no byte limit
-  double prefetchWeight = 0.5;                     // prefetch priorities are scaled by this
+  std::size_t ioRequests = 4;           // requests in flight on the emulated link (LoaderParams)
+  double uploadBudgetMs = 2.0;          // per-frame upload time (realtime mode)
+  std::uint64_t uploadBudgetBytes = 0;  // per-frame upload bytes; 0 = no byte limit
+  double prefetchWeight = 0.5;          // prefetch priorities are scaled by this
   std::chrono::milliseconds settleTimeout{60000};  // settled mode: longest wait for one frame
   renderer::Backend backend = renderer::Backend::Auto;
   renderer::Effects effects;

@@ -109,9 +109,10 @@ int runPath(const Argv& argv) {
 }
 
 int runRenderPath(const Argv& argv) {
-  auto args = Args::parse(argv, {"prefetch", "plots", "quiet", "unlit", "no-textures", "fog"},
-                          {"output", "path", "budget-ms", "selector", "mode", "size", "memory-mb",
-                           "fps", "io-mbps", "io-latency-ms", "frames", "upload-ms"});
+  auto args =
+      Args::parse(argv, {"prefetch", "plots", "quiet", "unlit", "no-textures", "fog"},
+                  {"output", "path", "budget-ms", "selector", "mode", "size", "memory-mb", "fps",
+                   "io-mbps", "io-latency-ms", "frames", "upload-ms", "params", "io-requests"});
   if (!args) return usageError("render", args.message());
   if (args->positionals().size() != 1 || !args->has("output") || !args->has("path")) {
     std::fprintf(stderr,
@@ -129,15 +130,20 @@ int runRenderPath(const Argv& argv) {
   auto ioMbps = args->number("io-mbps", 0.0, 0.0, 1e7);
   auto ioLatency = args->number("io-latency-ms", 0.0, 0.0, 1e5);
   auto frames = args->integer("frames", -1, 0, 100000000);
+  auto ioRequests = args->integer("io-requests", 4, 1, 1024);
   auto uploadMs = args->number("upload-ms", 2.0, 0.0, 1e5);
   for (const auto* r : {&budget, &memory, &fps, &ioMbps, &ioLatency, &uploadMs})
     if (!*r) return usageError("render", r->message());
-  if (!frames) return usageError("render", frames.message());
+  for (const auto* r : {&frames, &ioRequests})
+    if (!*r) return usageError("render", r->message());
   so.budgetMs = *budget;
   so.memoryCapBytes = static_cast<std::uint64_t>(*memory * 1024.0 * 1024.0);
   so.ioMbps = *ioMbps;
   so.ioLatencyMs = *ioLatency;
+  so.ioRequests = static_cast<std::size_t>(*ioRequests);
   so.uploadBudgetMs = *uploadMs;
+  if (auto p = hlod::setSelectorParams(so.selectorParams, args->get("params", "")); !p)
+    return usageError("render", "--params: " + p.message());
   so.selector = args->get("selector", "lakhia");
   if (so.selector != "lakhia" && so.selector != "sse" && so.selector != "fs" &&
       so.selector != "full")

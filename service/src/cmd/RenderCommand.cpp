@@ -52,9 +52,15 @@ const char* const kRenderUsage =
     "  --io-mbps X             emulated link speed for loading (default: unthrottled)\n"
     "  --io-latency-ms Y       emulated latency per request (a read that goes on where the\n"
     "                          last one ended, as a node's next chunk, continues it)\n"
+    "  --io-requests N         requests in flight on the emulated link (default 4): the next\n"
+    "                          N-1 nodes in priority order wait out their latency while one\n"
+    "                          streams; 1 requests one node at a time\n"
     "  --upload-ms MS          per-frame GPU upload budget (default 2)\n"
     "  --prefetch              prefetch what the path needs 1 s ahead\n"
     "  --plots                 also levels.svg, toggles.svg, frametime.svg (Lakhia Figs. 7-9)\n"
+    "  --params N=V,...        selector constants by their names in the code, e.g.\n"
+    "                          c_aim=0.95,c_vis=4,feedbackGain=0.2,ssePixels=16 (defaults and\n"
+    "                          meanings: hlod/include/hlod/Selector.h; a wrong name lists them)\n"
     "  --quiet, --unlit, --no-textures, --fog   as above\n"
     "\n"
     "environment: HLODR_GL_BACKEND=egl|osmesa forces a GL backend (default: EGL, then OSMesa).\n";
@@ -79,10 +85,10 @@ bool parseVec6(const std::string& s, double v[6]) {
 }  // namespace
 
 int runRender(const Argv& argv) {
-  auto args =
-      Args::parse(argv, {"unlit", "no-textures", "fog", "quiet", "prefetch", "plots"},
-                  {"output", "camera", "up", "size", "fov", "path", "budget-ms", "selector", "mode",
-                   "memory-mb", "fps", "io-mbps", "io-latency-ms", "frames", "upload-ms"});
+  auto args = Args::parse(argv, {"unlit", "no-textures", "fog", "quiet", "prefetch", "plots"},
+                          {"output", "camera", "up", "size", "fov", "path", "budget-ms", "selector",
+                           "mode", "memory-mb", "fps", "io-mbps", "io-latency-ms", "frames",
+                           "upload-ms", "params", "io-requests"});
   if (!args) {
     std::fprintf(stderr, "hlodr render: %s\n", args.message().c_str());
     return 2;
@@ -93,8 +99,9 @@ int runRender(const Argv& argv) {
   }
   // A node store, or any --path: a camera path run (PathCommand.cpp checks the rest).
   if (args->has("path") || isNodeStore(args->positionals()[0])) return runRenderPath(argv);
-  for (const char* o : {"budget-ms", "selector", "mode", "memory-mb", "fps", "io-mbps",
-                        "io-latency-ms", "frames", "upload-ms", "prefetch", "plots"}) {
+  for (const char* o :
+       {"budget-ms", "selector", "mode", "memory-mb", "fps", "io-mbps", "io-latency-ms", "frames",
+        "upload-ms", "prefetch", "plots", "params", "io-requests"}) {
     if (args->has(o)) {
       std::fprintf(stderr, "hlodr render: --%s needs a node store and --path\n", o);
       return 2;
