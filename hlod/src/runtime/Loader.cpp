@@ -268,11 +268,10 @@ std::uint32_t Loader::chooseLocked() {
     const double best = order_.empty() ? 0.0 : order_.front().first;
     if (p >= 0.0 && p >= params_.c_siblingRatio * best && fits(next, p)) chosen = next;
   }
-  for (const auto& [p, n] : order_) {
-    if (chosen != kNoNode) break;
-    if (!loadable(n)) continue;
-    if (fits(n, p))
-      chosen = n;
+  for (auto it = order_.begin(); chosen == kNoNode && it != order_.end(); ++it) {
+    if (!loadable(it->second)) continue;
+    if (fits(it->second, it->first))
+      chosen = it->second;
     else if (--roomTries == 0)
       break;
   }

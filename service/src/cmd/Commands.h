@@ -1,5 +1,6 @@
 #pragma once
 // Declarations of the subcommands listed in Cli.cpp. One file per command in this folder.
+#include <set>
 #include <string>
 #include <vector>
 
@@ -27,5 +28,9 @@ int runPath(const Argv& args);
 // `hlodr render STORE --path PATH.json`: a camera path through a PathSession (PathCommand.cpp).
 int runRenderPath(const Argv& args);
 bool isNodeStore(const std::string& path);
+// The options and flags only a camera path run takes (both render forms parse them, so that a
+// single-frame render can say they need a node store and --path).
+extern const std::set<std::string> kPathRunOptions;
+extern const std::set<std::string> kPathRunFlags;
 
 }  // namespace service::cmd

@@ -108,11 +108,17 @@ int runPath(const Argv& argv) {
   return 0;
 }
 
+const std::set<std::string> kPathRunOptions = {
+    "budget-ms",     "selector", "mode",      "memory-mb", "fps",        "io-mbps",
+    "io-latency-ms", "frames",   "upload-ms", "params",    "io-requests"};
+const std::set<std::string> kPathRunFlags = {"prefetch", "plots"};
+
 int runRenderPath(const Argv& argv) {
-  auto args =
-      Args::parse(argv, {"prefetch", "plots", "quiet", "unlit", "no-textures", "fog"},
-                  {"output", "path", "budget-ms", "selector", "mode", "size", "memory-mb", "fps",
-                   "io-mbps", "io-latency-ms", "frames", "upload-ms", "params", "io-requests"});
+  std::set<std::string> flagNames = {"quiet", "unlit", "no-textures", "fog"};
+  std::set<std::string> optionNames = {"output", "path", "size"};
+  flagNames.insert(kPathRunFlags.begin(), kPathRunFlags.end());
+  optionNames.insert(kPathRunOptions.begin(), kPathRunOptions.end());
+  auto args = Args::parse(argv, flagNames, optionNames);
   if (!args) return usageError("render", args.message());
   if (args->positionals().size() != 1 || !args->has("output") || !args->has("path")) {
     std::fprintf(stderr,

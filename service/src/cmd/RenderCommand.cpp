@@ -85,10 +85,11 @@ bool parseVec6(const std::string& s, double v[6]) {
 }  // namespace
 
 int runRender(const Argv& argv) {
-  auto args = Args::parse(argv, {"unlit", "no-textures", "fog", "quiet", "prefetch", "plots"},
-                          {"output", "camera", "up", "size", "fov", "path", "budget-ms", "selector",
-                           "mode", "memory-mb", "fps", "io-mbps", "io-latency-ms", "frames",
-                           "upload-ms", "params", "io-requests"});
+  std::set<std::string> flagNames = {"unlit", "no-textures", "fog", "quiet"};
+  std::set<std::string> optionNames = {"output", "camera", "up", "size", "fov", "path"};
+  flagNames.insert(kPathRunFlags.begin(), kPathRunFlags.end());
+  optionNames.insert(kPathRunOptions.begin(), kPathRunOptions.end());
+  auto args = Args::parse(argv, flagNames, optionNames);
   if (!args) {
     std::fprintf(stderr, "hlodr render: %s\n", args.message().c_str());
     return 2;
@@ -99,11 +100,10 @@ int runRender(const Argv& argv) {
   }
   // A node store, or any --path: a camera path run (PathCommand.cpp checks the rest).
   if (args->has("path") || isNodeStore(args->positionals()[0])) return runRenderPath(argv);
-  for (const char* o :
-       {"budget-ms", "selector", "mode", "memory-mb", "fps", "io-mbps", "io-latency-ms", "frames",
-        "upload-ms", "prefetch", "plots", "params", "io-requests"}) {
-    if (args->has(o)) {
-      std::fprintf(stderr, "hlodr render: --%s needs a node store and --path\n", o);
+  for (const auto* names : {&kPathRunOptions, &kPathRunFlags}) {
+    for (const std::string& o : *names) {
+      if (!args->has(o)) continue;
+      std::fprintf(stderr, "hlodr render: --%s needs a node store and --path\n", o.c_str());
       return 2;
     }
   }
