@@ -63,6 +63,10 @@ hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl, const hlod::LocalMe
     gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     gl.BindTexture(GL_TEXTURE_2D, 0);
+    // Mesa queues the mipmap generation (a blit per level) until the next flush, which would be
+    // the frame's draw: its cost would land there unannounced. Finished here, it counts as
+    // upload time, which the frame's selection already knows about (View::spentMs).
+    gl.Finish();
     out.gpuBytes_ += static_cast<std::uint64_t>(img.width) * img.height * 4 * 4 / 3;
   }
   return out;

@@ -11,7 +11,8 @@ namespace renderer {
 class GpuMesh {
  public:
   // Uploads interleaved position/normal/texCoord vertices, 32-bit indices and an RGBA8 texture
-  // with mipmaps. The context must be current.
+  // with mipmaps. The context must be current. Returns when the GL work is done, mipmaps
+  // included, so that the time spent in it is the upload's whole cost.
   static hlod::Result<GpuMesh> upload(const GlFunctions& gl, const hlod::LocalMesh& mesh);
 
   void draw(const GlFunctions& gl) const;
