@@ -115,9 +115,10 @@ struct LakhiaParams {
   // Slices are capped at c_demandMargin times the need of the node's leaves (see sliceSiblings).
   double c_demandMargin = 1.5;
   // The selector aims at c_aim * c_targetTime (an addition): the slices share that, and the
-  // budget fill's band is relative to it. The trade-off of the walk benchmark (same session):
-  // at 1, median |actual - target| / target 0.066-0.096 and 1.8-3.4% of frames over 1.25x the
-  // target; at 0.95, 0.095-0.123 and 0.8-2.3%. `--params c_aim=0.95` for the shorter tail.
+  // budget fill's band is relative to it. The trade-off of the walk benchmark (lakhia without
+  // prefetch, unthrottled and throttled): at 1, median |actual - target| / target 0.054-0.095
+  // and 0.5-2.5% of frames over 1.25x the target (18 runs); at 0.97, 0.082-0.106 and 0.8-1.7%
+  // (6 runs). On a 2-core VM the run-to-run spread is as large as that difference.
   double c_aim = 1.0;
   // Budget fill after the walk (see LakhiaSelector::fillBudget): hysteresis band on the frame
   // total. New refinements are made only below (1 - c_fillAdd) of the aim, judged by the larger
