@@ -28,15 +28,20 @@ void Loader::issueAheadLocked(std::uint32_t chosen, Loadable&& loadable) {
   const auto now = std::chrono::steady_clock::now();
   const std::size_t ahead = std::max<std::size_t>(1, params_.ioRequests) - 1;
   std::unordered_map<std::uint32_t, std::chrono::steady_clock::time_point> kept;
+  // Returns false once the window is full: the scans stop there, not at the end of the list.
   auto consider = [&](std::uint32_t n) {
-    if (kept.size() >= ahead || n == chosen || kept.count(n) || !loadable(n)) return;
+    if (kept.size() >= ahead) return false;
+    if (n == chosen || kept.count(n) || !loadable(n)) return true;
     auto it = issued_.find(n);
     kept.emplace(n, it != issued_.end() ? it->second : now);
+    return true;
   };
   if (chosen < resident_.size() && isRoot_[chosen]) {
-    for (std::uint32_t r : skeleton_.roots) consider(r);
+    for (std::uint32_t r : skeleton_.roots)
+      if (!consider(r)) break;
   } else {
-    for (const auto& [p, n] : order_) consider(n);
+    for (const auto& [p, n] : order_)
+      if (!consider(n)) break;
   }
   // The chosen node keeps its issue time until throttle() consumes it; the rest not in the
   // window is cancelled.
