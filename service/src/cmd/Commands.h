@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "service/Args.h"
+
 namespace service::cmd {
 
 using Argv = std::vector<std::string>;
@@ -32,5 +34,8 @@ bool isNodeStore(const std::string& path);
 // single-frame render can say they need a node store and --path).
 extern const std::set<std::string> kPathRunOptions;
 extern const std::set<std::string> kPathRunFlags;
+// Args::parse with the path-run options and flags added to the form's own.
+hlod::Result<Args> parseWithPathRun(const Argv& argv, std::set<std::string> flags,
+                                    std::set<std::string> options);
 
 }  // namespace service::cmd

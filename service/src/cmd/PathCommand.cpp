@@ -113,12 +113,16 @@ const std::set<std::string> kPathRunOptions = {
     "io-latency-ms", "frames",   "upload-ms", "params",    "io-requests"};
 const std::set<std::string> kPathRunFlags = {"prefetch", "plots"};
 
+hlod::Result<Args> parseWithPathRun(const Argv& argv, std::set<std::string> flags,
+                                    std::set<std::string> options) {
+  flags.insert(kPathRunFlags.begin(), kPathRunFlags.end());
+  options.insert(kPathRunOptions.begin(), kPathRunOptions.end());
+  return Args::parse(argv, flags, options);
+}
+
 int runRenderPath(const Argv& argv) {
-  std::set<std::string> flagNames = {"quiet", "unlit", "no-textures", "fog"};
-  std::set<std::string> optionNames = {"output", "path", "size"};
-  flagNames.insert(kPathRunFlags.begin(), kPathRunFlags.end());
-  optionNames.insert(kPathRunOptions.begin(), kPathRunOptions.end());
-  auto args = Args::parse(argv, flagNames, optionNames);
+  auto args =
+      parseWithPathRun(argv, {"quiet", "unlit", "no-textures", "fog"}, {"output", "path", "size"});
   if (!args) return usageError("render", args.message());
   if (args->positionals().size() != 1 || !args->has("output") || !args->has("path")) {
     std::fprintf(stderr,

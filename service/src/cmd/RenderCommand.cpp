@@ -85,11 +85,8 @@ bool parseVec6(const std::string& s, double v[6]) {
 }  // namespace
 
 int runRender(const Argv& argv) {
-  std::set<std::string> flagNames = {"unlit", "no-textures", "fog", "quiet"};
-  std::set<std::string> optionNames = {"output", "camera", "up", "size", "fov", "path"};
-  flagNames.insert(kPathRunFlags.begin(), kPathRunFlags.end());
-  optionNames.insert(kPathRunOptions.begin(), kPathRunOptions.end());
-  auto args = Args::parse(argv, flagNames, optionNames);
+  auto args = parseWithPathRun(argv, {"unlit", "no-textures", "fog", "quiet"},
+                               {"output", "camera", "up", "size", "fov", "path"});
   if (!args) {
     std::fprintf(stderr, "hlodr render: %s\n", args.message().c_str());
     return 2;
