@@ -289,10 +289,22 @@ TEST(NodeStoreWriter, RefusesToReplaceAFolderThatIsNotAStore) {
   const fs::path dir = tempDir("notastore");
   fs::create_directories(dir / "precious");
   std::ofstream(dir / "precious" / "keep.txt") << "x";
-  auto w = NodeStoreWriter::create(dir / "precious");
-  ASSERT_TRUE(w);
-  EXPECT_FALSE((*w)->finish(Skeleton{}, StoreFacts{}));
+  EXPECT_FALSE(NodeStoreWriter::create(dir / "precious"));
   EXPECT_TRUE(fs::exists(dir / "precious" / "keep.txt"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1);
+  fs::remove_all(dir);
+}
+
+TEST(NodeStoreWriter, RefusesAFolderThatAppearedDuringTheBuild) {
+  const fs::path dir = tempDir("appeared");
+  auto w = NodeStoreWriter::create(dir / "x.hlod");
+  ASSERT_TRUE(w);
+  fs::create_directories(dir / "x.hlod");
+  std::ofstream(dir / "x.hlod" / "skeleton.bin") << "someone else's";
+  std::ofstream(dir / "x.hlod" / "data.csv") << "1,2";
+  EXPECT_FALSE((*w)->finish(Skeleton{}, StoreFacts{}));
+  EXPECT_TRUE(fs::exists(dir / "x.hlod" / "data.csv"));
+  EXPECT_TRUE(fs::exists(dir / "x.hlod" / "skeleton.bin"));
   fs::remove_all(dir);
 }
 

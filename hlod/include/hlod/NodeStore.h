@@ -81,9 +81,15 @@ class NodeStore final : public NodeSource {
   StoreFacts facts_;
 };
 
+// Ok when dir does not exist, is empty, or is a node store (only skeleton.bin and payload.bin,
+// the skeleton with its magic): the folders a build may replace. Anything else is an Error that
+// names what is in the way.
+Status checkReplaceableStore(const std::filesystem::path& dir);
+
 // Writes a store into a temporary folder beside the destination and renames it into place in
 // finish(), so a failed build leaves no half store. Destroying an unfinished writer removes the
-// temporary folder.
+// temporary folder. create() and finish() refuse a destination that is not a store
+// (checkReplaceableStore): a build never deletes what it did not write.
 class NodeStoreWriter {
  public:
   static Result<std::unique_ptr<NodeStoreWriter>> create(const std::filesystem::path& dir);

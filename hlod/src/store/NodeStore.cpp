@@ -94,16 +94,61 @@ Result<LocalMesh> NodeStore::loadNode(std::uint32_t node) const {
   return decodePayload(node, bytes);
 }
 
+Status checkReplaceableStore(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(dir, ec);
+  if (st.type() == fs::file_type::not_found) return Ok{};
+  if (st.type() != fs::file_type::directory)
+    return makeError(dir.string() + " exists and is not a node store folder; not replacing it");
+  // A store holds exactly the files a build writes, and its skeleton starts with the magic.
+  // Anything else there is the user's: never delete it.
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if ((name != "skeleton.bin" && name != "payload.bin") || !entry.is_regular_file(ec))
+      return makeError(dir.string() + " holds " + name +
+                       ", which is not part of a node store; not replacing the folder "
+                       "(give another -o, or remove it yourself)");
+  }
+  if (ec) return makeError("cannot list " + dir.string() + ": " + ec.message());
+  if (fs::is_empty(dir, ec)) return Ok{};
+  std::ifstream in(dir / "skeleton.bin", std::ios::binary);
+  char magic[8] = {};
+  if (!in.read(magic, sizeof magic) || std::memcmp(magic, "HLODSKEL", sizeof magic) != 0)
+    return makeError((dir / "skeleton.bin").string() +
+                     " is not a node store's skeleton; not replacing " + dir.string());
+  return Ok{};
+}
+
+namespace {
+
+// A new sibling folder named stem.suffix-N that did not exist before (created here, so
+// removing it later removes only what this build wrote).
+Result<std::filesystem::path> createUniqueSibling(const std::filesystem::path& dir,
+                                                  const char* suffix) {
+  std::random_device rd;
+  std::error_code ec;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::filesystem::path p = dir;
+    p += std::string(suffix) + std::to_string(rd() % 1000000);
+    if (std::filesystem::create_directory(p, ec)) return p;
+    if (ec) return makeError("cannot create " + p.string() + ": " + ec.message());
+  }
+  return makeError("cannot find a free temporary name beside " + dir.string());
+}
+
+}  // namespace
+
 Result<std::unique_ptr<NodeStoreWriter>> NodeStoreWriter::create(const std::filesystem::path& dir) {
+  // Refuse before the build starts, not after it has run for minutes.
+  if (auto ok = checkReplaceableStore(dir); !ok) return ok.error();
   std::unique_ptr<NodeStoreWriter> w(new NodeStoreWriter());
   w->dir_ = dir;
-  std::random_device rd;
-  w->tmp_ = dir;
-  w->tmp_ += ".tmp-" + std::to_string(rd() % 1000000);
   std::error_code ec;
-  std::filesystem::remove_all(w->tmp_, ec);
-  if (!std::filesystem::create_directories(w->tmp_, ec) || ec)
-    return makeError("cannot create " + w->tmp_.string() + ": " + ec.message());
+  if (dir.has_parent_path()) std::filesystem::create_directories(dir.parent_path(), ec);
+  auto tmp = createUniqueSibling(dir, ".tmp-");
+  if (!tmp) return tmp.error();
+  w->tmp_ = *tmp;
   w->payload_ = std::fopen((w->tmp_ / "payload.bin").c_str(), "wb");
   if (!w->payload_) return makeError("cannot create " + (w->tmp_ / "payload.bin").string());
   return w;
@@ -143,16 +188,34 @@ Status NodeStoreWriter::finish(const Skeleton& skeleton, StoreFacts facts) {
     out.close();
     if (!out) return makeError("cannot write skeleton.bin");
   }
+  // Replace an earlier store, but never some other folder the user named by mistake (it may
+  // have appeared during the build). The old store is moved aside first and removed only once
+  // the new one is in place, so an interrupted finish leaves one of them whole.
+  if (auto ok = checkReplaceableStore(dir_); !ok) return ok.error();
   std::error_code ec;
-  // Replace an earlier store, but never some other folder the user named by mistake.
+  std::filesystem::path old;
   if (std::filesystem::exists(dir_, ec)) {
-    if (!std::filesystem::exists(dir_ / "skeleton.bin", ec))
-      return makeError(dir_.string() + " exists and is not a node store; not replacing it");
-    std::filesystem::remove_all(dir_, ec);
+    auto aside = createUniqueSibling(dir_, ".old-");
+    if (!aside) return aside.error();
+    old = *aside;
+    std::filesystem::remove(old, ec);  // the empty folder just made: rename needs the name free
+    std::filesystem::rename(dir_, old, ec);
+    if (ec)
+      return makeError("cannot move the earlier store " + dir_.string() +
+                       " aside: " + ec.message());
   }
   std::filesystem::rename(tmp_, dir_, ec);
-  if (ec)
+  if (ec) {
+    std::error_code back;
+    if (!old.empty()) std::filesystem::rename(old, dir_, back);
     return makeError("cannot move the store into place at " + dir_.string() + ": " + ec.message());
+  }
+  if (!old.empty()) {
+    // Only what checkReplaceableStore saw: skeleton.bin and payload.bin.
+    std::filesystem::remove(old / "skeleton.bin", ec);
+    std::filesystem::remove(old / "payload.bin", ec);
+    std::filesystem::remove(old, ec);
+  }
   finished_ = true;
   return Ok{};
 }
