@@ -1,0 +1,33 @@
+#pragma once
+// Geometric error of a simplified mesh against its original: the symmetric distance between the
+// two surfaces, estimated by sampling (as Metro: Cignoni, Rocchini, Scopigno, "Metro: Measuring
+// Error on Simplified Surfaces", Computer Graphics Forum 17(2), 1998).
+#include <cstddef>
+#include <cstdint>
+
+#include "hlod/Mesh.h"
+#include "hlod/Result.h"
+
+namespace hlod::metrics {
+
+// Distances in the meshes' units.
+struct SurfaceDistance {
+  double hausdorff = 0;     // the largest distance found, over both directions
+  double rms = 0;           // root mean square over all samples of both directions
+  double meanAB = 0;        // mean distance from a's samples to b's surface
+  double meanBA = 0;        // mean distance from b's samples to a's surface
+  std::size_t samples = 0;  // samples taken in all: 2 * samplesPerMesh
+};
+
+// Samples samplesPerMesh points on each mesh's surface (area-weighted, uniform within a
+// triangle, from a fixed pseudo-random sequence of seed: the same inputs give the same result on
+// every platform) and measures each one's distance to the closest point of the other mesh's
+// triangles (exact point-triangle distance through a bounding volume hierarchy). Degenerate
+// (zero-area) triangles are never sampled and count as their edges for the distance, so they
+// give no NaN. An Error for a mesh without triangles, an index out of range, a non-finite
+// position, a mesh whose triangles have no area in all, or samplesPerMesh 0.
+Result<SurfaceDistance> surfaceDistance(const Mesh& a, const Mesh& b,
+                                        std::size_t samplesPerMesh = 100000,
+                                        std::uint64_t seed = 1);
+
+}  // namespace hlod::metrics

@@ -1,0 +1,147 @@
+#include "metrics/TriangleBvh.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+namespace hlod::metrics {
+
+namespace {
+
+constexpr std::uint32_t kLeafSize = 4;
+
+double segmentDistance2(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  const glm::dvec3 d = p - (a + t * ab);
+  return glm::dot(d, d);
+}
+
+double boxDistance2(const glm::dvec3& p, const Aabb& box) {
+  const glm::dvec3 d = glm::max(glm::max(box.min - p, p - box.max), glm::dvec3(0.0));
+  return glm::dot(d, d);
+}
+
+double edgesDistance2(const glm::dvec3& p, const Triangle& t) {
+  return std::min({segmentDistance2(p, t[0], t[1]), segmentDistance2(p, t[1], t[2]),
+                   segmentDistance2(p, t[2], t[0])});
+}
+
+// Squared distance to the closest point: Ericson, "Real-Time Collision Detection" (2005), sec.
+// 5.1.5, which finds the Voronoi region of p (a corner, an edge or the face) from dot products.
+double faceDistance2(const glm::dvec3& p, const Triangle& t) {
+  const glm::dvec3& a = t[0];
+  const glm::dvec3& b = t[1];
+  const glm::dvec3& c = t[2];
+  const glm::dvec3 ab = b - a;
+  const glm::dvec3 ac = c - a;
+  const auto distance2 = [&](const glm::dvec3& q) { return glm::dot(p - q, p - q); };
+  const glm::dvec3 ap = p - a;
+  const double d1 = glm::dot(ab, ap);
+  const double d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return distance2(a);
+  const glm::dvec3 bp = p - b;
+  const double d3 = glm::dot(ab, bp);
+  const double d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return distance2(b);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return distance2(a + d1 / (d1 - d3) * ab);
+  const glm::dvec3 cp = p - c;
+  const double d5 = glm::dot(ab, cp);
+  const double d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return distance2(c);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return distance2(a + d2 / (d2 - d6) * ac);
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+    return distance2(b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b));
+  }
+  const double denominator = va + vb + vc;
+  return distance2(a + (vb / denominator) * ab + (vc / denominator) * ac);
+}
+
+double pointTriangleDistance2(const glm::dvec3& p, const Triangle& t) {
+  // Collinear or coincident corners: the region tests would divide by ~0; such a triangle is
+  // its edges. So is one whose squares underflow (a NaN from the face test).
+  const glm::dvec3 ab = t[1] - t[0];
+  const glm::dvec3 ac = t[2] - t[0];
+  const glm::dvec3 n = glm::cross(ab, ac);
+  if (glm::dot(n, n) <= 1e-24 * glm::dot(ab, ab) * glm::dot(ac, ac)) return edgesDistance2(p, t);
+  const double d2 = faceDistance2(p, t);
+  return std::isfinite(d2) ? d2 : edgesDistance2(p, t);
+}
+
+}  // namespace
+
+double pointTriangleDistance(const glm::dvec3& p, const Triangle& t) {
+  return std::sqrt(pointTriangleDistance2(p, t));
+}
+
+TriangleBvh::TriangleBvh(std::vector<Triangle> triangles) : triangles_(std::move(triangles)) {
+  assert(!triangles_.empty());
+  nodes_.reserve(2 * triangles_.size() / kLeafSize + 1);
+  build(0, static_cast<std::uint32_t>(triangles_.size()));
+}
+
+// Median split along the longest axis of the centroids' box; the left child is stored right
+// after its parent.
+std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
+  const std::uint32_t index = static_cast<std::uint32_t>(nodes_.size());
+  nodes_.push_back({});
+  Aabb box, centres;
+  for (std::uint32_t i = first; i < first + count; ++i) {
+    for (const glm::dvec3& v : triangles_[i]) box.extend(v);
+    centres.extend((triangles_[i][0] + triangles_[i][1] + triangles_[i][2]) / 3.0);
+  }
+  nodes_[index].box = box;
+  if (count <= kLeafSize) {
+    nodes_[index].first = first;
+    nodes_[index].count = count;
+    return index;
+  }
+  const glm::dvec3 extent = centres.size();
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+  const std::uint32_t half = count / 2;
+  const auto centre = [axis](const Triangle& t) { return t[0][axis] + t[1][axis] + t[2][axis]; };
+  std::nth_element(triangles_.begin() + first, triangles_.begin() + first + half,
+                   triangles_.begin() + first + count,
+                   [&](const Triangle& l, const Triangle& r) { return centre(l) < centre(r); });
+  build(first, half);
+  const std::uint32_t right = build(first + half, count - half);
+  nodes_[index].first = right;
+  nodes_[index].count = 0;
+  return index;
+}
+
+double TriangleBvh::distance(const glm::dvec3& p) const {
+  double best2 = std::numeric_limits<double>::infinity();
+  // Depth-first, the nearer child first, skipping boxes no nearer than the best so far.
+  std::uint32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (boxDistance2(p, node.box) >= best2) continue;
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+        best2 = std::min(best2, pointTriangleDistance2(p, triangles_[i]));
+      }
+      continue;
+    }
+    const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+    const std::uint32_t right = node.first;
+    const double dl = boxDistance2(p, nodes_[left].box);
+    const double dr = boxDistance2(p, nodes_[right].box);
+    const bool leftFirst = dl <= dr;
+    assert(top + 2 <= 64);  // depth-first: at most one more entry per level (depth < 40)
+    const std::uint32_t nearer = leftFirst ? left : right;
+    const std::uint32_t farther = leftFirst ? right : left;
+    if ((leftFirst ? dr : dl) < best2) stack[top++] = farther;
+    if ((leftFirst ? dl : dr) < best2) stack[top++] = nearer;
+  }
+  return std::sqrt(best2);
+}
+
+}  // namespace hlod::metrics

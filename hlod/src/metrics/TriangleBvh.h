@@ -1,0 +1,40 @@
+#pragma once
+// Closest-point distance from a point to a set of triangles, through a bounding volume hierarchy
+// (private to metrics/).
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "hlod/Mesh.h"
+
+namespace hlod::metrics {
+
+using Triangle = std::array<glm::dvec3, 3>;
+
+// The distance from p to the closest point of triangle t. Degenerate triangles (collinear or
+// coincident corners) count as their edges; never NaN for finite input.
+double pointTriangleDistance(const glm::dvec3& p, const Triangle& t);
+
+class TriangleBvh {
+ public:
+  // triangles must not be empty.
+  explicit TriangleBvh(std::vector<Triangle> triangles);
+
+  // The distance from p to the closest point of any of the triangles.
+  double distance(const glm::dvec3& p) const;
+
+ private:
+  struct Node {
+    Aabb box;
+    std::uint32_t first = 0;  // leaf: first triangle; inner: index of the right child
+    std::uint32_t count = 0;  // leaf: triangle count; inner: 0 (the left child follows the node)
+  };
+  std::uint32_t build(std::uint32_t first, std::uint32_t count);
+
+  std::vector<Triangle> triangles_;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace hlod::metrics

@@ -1,0 +1,171 @@
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "hlod/metrics/SurfaceDistance.h"
+
+namespace hlod::metrics {
+namespace {
+
+// The square [0, 1]^2 at height z, as n x n quads of two triangles each.
+Mesh square(int n, double z = 0.0) {
+  Mesh m;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) m.positions.push_back({double(i) / n, double(j) / n, z});
+  }
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
+    }
+  }
+  return m;
+}
+
+Mesh triangle(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+  Mesh m;
+  m.positions = {a, b, c};
+  m.indices = {0, 1, 2};
+  return m;
+}
+
+// A tiny triangle around p: its samples all lie within 1e-9 of p.
+Mesh speck(glm::dvec3 p) {
+  return triangle(p, p + glm::dvec3(1e-9, 0, 0), p + glm::dvec3(0, 1e-9, 1e-9));
+}
+
+TEST(SurfaceDistance, ASquareAgainstItselfIsZero) {
+  const Result<SurfaceDistance> d = surfaceDistance(square(1), square(5), 20000);
+  ASSERT_TRUE(d.ok()) << d.message();
+  EXPECT_LT(d->hausdorff, 1e-12);
+  EXPECT_LT(d->rms, 1e-12);
+  EXPECT_LT(d->meanAB, 1e-12);
+  EXPECT_LT(d->meanBA, 1e-12);
+  EXPECT_EQ(d->samples, 40000u);
+}
+
+TEST(SurfaceDistance, ASquareAgainstItsCopyOffsetAlongTheNormalIsTheOffset) {
+  const Result<SurfaceDistance> d = surfaceDistance(square(3), square(7, 0.1), 20000);
+  ASSERT_TRUE(d.ok()) << d.message();
+  EXPECT_NEAR(d->hausdorff, 0.1, 1e-12);
+  EXPECT_NEAR(d->rms, 0.1, 1e-12);
+  EXPECT_NEAR(d->meanAB, 0.1, 1e-12);
+  EXPECT_NEAR(d->meanBA, 0.1, 1e-12);
+}
+
+TEST(SurfaceDistance, ATriangleAgainstASubsetOfItIsTheFarthestCornersDistance) {
+  // b is the lower-left quarter of a: every point of b lies on a (distance 0); a's farthest
+  // points from b are its corners (1, 0) and (0, 1), 0.5 from b's corners (0.5, 0) and (0, 0.5).
+  const Mesh a = triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  const Mesh b = triangle({0, 0, 0}, {0.5, 0, 0}, {0, 0.5, 0});
+  const Result<SurfaceDistance> d = surfaceDistance(a, b);
+  ASSERT_TRUE(d.ok()) << d.message();
+  EXPECT_LT(d->meanBA, 1e-12);
+  EXPECT_GT(d->meanAB, 0.05);
+  // Sampling reaches within eps of a corner with probability 1 - (1 - eps^2)^n: eps = 0.005
+  // at n = 100000 (probability 1 - e^-2.5 per corner, and there are two).
+  EXPECT_LE(d->hausdorff, 0.5 + 1e-12);
+  EXPECT_GT(d->hausdorff, 0.5 - 0.005);
+  EXPECT_EQ(d->samples, 200000u);
+}
+
+TEST(SurfaceDistance, DistanceToATriangleIsExactInEveryVoronoiRegion) {
+  // One triangle in z = 0 and points off each corner, edge and the face, each a speck.
+  const Mesh t = triangle({0, 0, 0}, {2, 0, 0}, {0, 2, 0});
+  struct Case {
+    glm::dvec3 p;
+    double expected;
+    const char* region;
+  };
+  const Case cases[] = {
+      {{-3, -4, 0}, 5.0, "corner a"}, {{5, -4, 0}, 5.0, "corner b"},
+      {{0, 3, 0}, 1.0, "corner c"},   {{1, -2, 0}, 2.0, "edge ab"},
+      {{-1, 1, 0}, 1.0, "edge ca"},   {{2, 2, 0}, std::sqrt(2.0), "edge bc"},
+      {{0.5, 0.5, 0.7}, 0.7, "face"}, {{0.5, 0.5, -0.3}, 0.3, "face, other side"},
+  };
+  for (const Case& c : cases) {
+    const Result<SurfaceDistance> d = surfaceDistance(speck(c.p), t, 200);
+    ASSERT_TRUE(d.ok()) << d.message();
+    EXPECT_NEAR(d->meanAB, c.expected, 1e-8) << c.region;
+  }
+}
+
+TEST(SurfaceDistance, DegenerateTrianglesAreNeverSampledAndCountAsTheirEdges) {
+  // b: a unit square plus a collinear triangle along x in [3, 5] and one with a repeated corner.
+  Mesh b = square(1);
+  const std::uint32_t base = static_cast<std::uint32_t>(b.positions.size());
+  b.positions.insert(b.positions.end(), {{3, 0, 0}, {4, 0, 0}, {5, 0, 0}, {8, 8, 8}, {9, 9, 9}});
+  b.indices.insert(b.indices.end(), {base, base + 1, base + 2, base + 3, base + 3, base + 4});
+  // A speck 1 above the middle of the collinear triangle: 1 from it, farther from all else.
+  const Result<SurfaceDistance> d = surfaceDistance(speck({4, 0, 1}), b, 1000);
+  ASSERT_TRUE(d.ok()) << d.message();
+  EXPECT_NEAR(d->meanAB, 1.0, 1e-8);
+  // b's samples all lie on the square (the degenerate triangles have no area): each is at least
+  // 3 from the speck and at most sqrt(4^2 + 1^2 + 1^2).
+  EXPECT_TRUE(std::isfinite(d->meanBA) && std::isfinite(d->rms) && std::isfinite(d->hausdorff));
+  EXPECT_GT(d->meanBA, 3.0);
+  EXPECT_LE(d->hausdorff, std::sqrt(18.0) + 1e-6);
+}
+
+TEST(SurfaceDistance, TheSameSeedGivesTheSameResultAndAnotherSeedOtherSamples) {
+  const Mesh a = triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  const Mesh b = triangle({0, 0, 0.2}, {0.7, 0, 0}, {0, 0.4, 0});
+  const Result<SurfaceDistance> first = surfaceDistance(a, b, 5000, 7);
+  const Result<SurfaceDistance> again = surfaceDistance(a, b, 5000, 7);
+  const Result<SurfaceDistance> other = surfaceDistance(a, b, 5000, 8);
+  ASSERT_TRUE(first.ok() && again.ok() && other.ok());
+  EXPECT_EQ(first->meanAB, again->meanAB);
+  EXPECT_EQ(first->hausdorff, again->hausdorff);
+  EXPECT_NE(first->meanAB, other->meanAB);
+  EXPECT_NEAR(first->meanAB, other->meanAB, 0.01);  // both estimate the same mean
+}
+
+TEST(SurfaceDistance, UnusableMeshesAreErrors) {
+  const Mesh good = square(1);
+  Mesh empty;
+  Mesh ragged = good;
+  ragged.indices.pop_back();
+  Mesh outOfRange = good;
+  outOfRange.indices[0] = 99;
+  Mesh notFinite = good;
+  notFinite.positions[1].y = std::numeric_limits<double>::quiet_NaN();
+  const Mesh noArea = triangle({0, 0, 0}, {1, 1, 1}, {2, 2, 2});
+  for (const Mesh* bad :
+       std::initializer_list<const Mesh*>{&empty, &ragged, &outOfRange, &notFinite, &noArea}) {
+    EXPECT_FALSE(surfaceDistance(good, *bad, 100).ok());
+    EXPECT_FALSE(surfaceDistance(*bad, good, 100).ok());
+  }
+  EXPECT_FALSE(surfaceDistance(good, good, 0).ok());
+  const Result<SurfaceDistance> r = surfaceDistance(good, noArea, 100);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("no surface area"), std::string::npos) << r.message();
+}
+
+TEST(SurfaceDistance, OneHundredThousandTrianglesAgainstOneHundredThousandSamplesTakeSeconds) {
+  // A 224 x 224 grid (100352 triangles) rippled by at most 0.02 against a flat one of the same
+  // size: every distance lies in [0, 0.02], and the ripple's crests (on grid vertices) reach it.
+  const double k = 4.0 * std::numbers::pi;  // two whole periods along x and along y
+  Mesh rippled = square(224);
+  for (glm::dvec3& p : rippled.positions) p.z = 0.02 * std::sin(k * p.x) * std::cos(k * p.y);
+  const Mesh flat = square(224);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Result<SurfaceDistance> d = surfaceDistance(rippled, flat, 100000);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(d.ok()) << d.message();
+  std::printf("[   TIME   ] 100352 x 100352 triangles, 2 x 100000 samples: %.0f ms\n", ms);
+  RecordProperty("ms", std::to_string(ms));
+  EXPECT_LE(d->hausdorff, 0.02 + 1e-9);
+  EXPECT_GT(d->hausdorff, 0.019);
+  // The mean of |z| over whole periods is 0.02 (2 / pi)^2; sampling by area (the slopes add up
+  // to 3%) weighs the steep, low parts a little more.
+  EXPECT_NEAR(d->meanAB, 0.02 * 4.0 / (std::numbers::pi * std::numbers::pi), 0.0005);
+}
+
+}  // namespace
+}  // namespace hlod::metrics
