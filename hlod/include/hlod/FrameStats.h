@@ -10,7 +10,11 @@
 //     nodesPerLevel (array, index = level), upToggles, downToggles, vTime (ms per unit of cost),
 //     residentBytes, capBytes (0 = none), loadsStarted, loadsFinished, unloads (cumulative counts),
 //     coarserNotResident (nodes drawn coarser because a visible child was not resident), stalls
-//     (frames or waits the renderer counted as a stall, e.g. settled-mode waits).
+//     (frames or waits the renderer counted as a stall, e.g. settled-mode waits), uploadMs
+//     (GPU uploads in this frame, ms), drawMs (the drawing through glFinish, ms), queryGpuMs (the
+//     passes' GL_TIME_ELAPSED sum, ms), uploads, uploadBytes, pendingUploads (loaded, waiting for
+//     an upload), loadErrors and bytesRead (cumulative, of the loader), cacheHits (cumulative:
+//     nodes another session had decoded already).
 //   summary: frames, medianRelError and p95RelError (of |gpuMs - targetMs| / targetMs),
 //     shareOverTarget and shareOver125 (fraction of frames with gpuMs > target, > 1.25 target),
 //     p99OverTarget (p99 of gpuMs / targetMs), meanGpuMs, totalStalls, peakResidentBytes,
@@ -50,6 +54,15 @@ struct FrameRecord {
   std::uint64_t unloads = 0;
   std::uint32_t coarserNotResident = 0;
   std::uint32_t stalls = 0;
+  double uploadMs = 0.0;
+  double drawMs = 0.0;
+  double queryGpuMs = 0.0;
+  std::uint32_t uploads = 0;
+  std::uint64_t uploadBytes = 0;
+  std::uint32_t pendingUploads = 0;
+  std::uint64_t loadErrors = 0;
+  std::uint64_t bytesRead = 0;
+  std::uint64_t cacheHits = 0;
 };
 
 // Copies the selector's part (targetMs, estimatedMs, triangles, levels, toggles, vTime, ...).
@@ -79,10 +92,15 @@ struct FrameSummary {
 // Frames with targetMs <= 0 are left out of the error figures.
 FrameSummary summarize(std::span<const FrameRecord> frames);
 
-std::string statsJson(std::span<const FrameRecord> frames, const FrameSummary& summary);
+// One frame as a single line of JSON (the stats.json frame object): for event streams and headers.
+std::string frameJson(const FrameRecord& frame);
+std::string summaryJson(const FrameSummary& summary);
+// extra: a JSON object merged in at the top level (e.g. the run's settings), or "".
+std::string statsJson(std::span<const FrameRecord> frames, const FrameSummary& summary,
+                      const std::string& extra = "");
 std::string statsCsv(std::span<const FrameRecord> frames);
 Status writeStatsJson(const std::string& path, std::span<const FrameRecord> frames,
-                      const FrameSummary& summary);
+                      const FrameSummary& summary, const std::string& extra = "");
 Status writeStatsCsv(const std::string& path, std::span<const FrameRecord> frames);
 
 }  // namespace hlod

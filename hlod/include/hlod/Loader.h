@@ -36,6 +36,7 @@
 
 #include "hlod/NodeSource.h"
 #include "hlod/Selector.h"
+#include "hlod/runtime/NodeCache.h"
 
 namespace hlod {
 
@@ -60,6 +61,10 @@ struct LoaderParams {
   double c_siblingRatio = 0.25;
   bool keepPartial = true;
   std::size_t maxPartials = 4;
+  // Decoded payloads shared with the other sessions of the same store (nullptr: none). A node
+  // alive there is taken without a read; a load reserves its decoded bytes under the cache's cap
+  // too, and waits while they do not fit.
+  std::shared_ptr<NodeCache> cache;
 };
 
 struct LoaderEvent {
@@ -75,6 +80,7 @@ struct LoaderCounters {
   std::uint64_t unloads = 0;
   std::uint64_t preemptions = 0;  // a load interrupted for a more important node
   std::uint64_t loadErrors = 0;   // read or decode failures (the node is not retried)
+  std::uint64_t cacheHits = 0;    // nodes taken from the shared NodeCache without a read
   std::uint64_t bytesRead = 0;
   std::uint64_t requests = 0;       // reads that did not continue the previous one
   double latencyMs = 0.0;           // emulated latency waited for (what pipelining left)
@@ -94,7 +100,9 @@ class Loader final : public Residency {
   Loader(const Loader&) = delete;
   Loader& operator=(const Loader&) = delete;
 
-  // Loads every hlod_0 node synchronously (before the first frame). Errors name the node.
+  // Loads every hlod_0 node synchronously (before the first frame). Errors name the node; an
+  // emulated link that would need more than kMaxRootLoadSeconds for it is an Error up front.
+  static constexpr double kMaxRootLoadSeconds = 120.0;
   Status loadRoots();
 
   // Background thread: start() once, stop() (or the destructor) joins it.
@@ -118,7 +126,7 @@ class Loader final : public Residency {
   std::vector<LoaderEvent> drainEvents();
   LoaderCounters counters() const;
   std::uint32_t currentLoad() const;  // the node being read, kNoNode when none
-  std::string lastError() const;
+  std::string lastError() const;      // the last load error, "" when none
 
   // Settled mode: waits until all nodes are resident (true) or the timeout passes (false).
   // Only wanted/prefetched nodes get loaded. Without the thread it steps on the caller's thread.
@@ -131,6 +139,7 @@ class Loader final : public Residency {
   struct Partial {
     std::vector<std::byte> bytes;
     std::uint64_t filled = 0;
+    bool cacheReserved = false;  // its memoryBytes are reserved in params_.cache
   };
 
   double priorityOf(std::uint32_t node) const;  // -1 when neither wanted nor prefetched
@@ -140,7 +149,13 @@ class Loader final : public Residency {
   bool hasResidentChildLocked(std::uint32_t node) const;
   void dropPartialLocked(std::uint32_t node);
   void finishLocked(std::uint32_t node, Result<LocalMesh> mesh);
-  // Sleeps as the emulated link would for a read of len bytes at offset of node's payload.
+  void adoptLocked(std::uint32_t node, std::shared_ptr<const LocalMesh> mesh);
+  void failLocked(std::uint32_t node, const std::string& why);
+  // decodePayload, with an allocation failure (a forged decoded size) as an Error.
+  Result<LocalMesh> decodeGuarded(std::uint32_t node, std::span<const std::byte> bytes);
+  bool stopRequested();
+  // Sleeps as the emulated link would for a read of len bytes at offset of node's payload;
+  // stop() ends the sleep at once.
   void throttle(std::uint32_t node, std::uint64_t offset, std::size_t len);
   // Requests the next ioRequests - 1 candidates after `chosen` (see LoaderParams::ioRequests).
   template <class Loadable>

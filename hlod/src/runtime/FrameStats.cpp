@@ -1,6 +1,7 @@
 #include "hlod/FrameStats.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -53,6 +54,9 @@ void fillFromLoader(FrameRecord& r, const LoaderCounters& c) {
   r.loadsStarted = c.loadsStarted;
   r.loadsFinished = c.loadsFinished;
   r.unloads = c.unloads;
+  r.loadErrors = c.loadErrors;
+  r.bytesRead = c.bytesRead;
+  r.cacheHits = c.cacheHits;
 }
 
 FrameSummary summarize(std::span<const FrameRecord> frames) {
@@ -95,77 +99,114 @@ FrameSummary summarize(std::span<const FrameRecord> frames) {
   return s;
 }
 
-std::string statsJson(std::span<const FrameRecord> frames, const FrameSummary& s) {
-  using nlohmann::json;
-  json list = json::array();
-  for (const FrameRecord& f : frames) {
-    list.push_back({{"index", f.index},
-                    {"time", finiteOrZero(f.time)},
-                    {"targetMs", finiteOrZero(f.targetMs)},
-                    {"estimatedMs", finiteOrZero(f.estimatedMs)},
-                    {"gpuMs", finiteOrZero(f.gpuMs)},
-                    {"cpuMs", finiteOrZero(f.cpuMs)},
-                    {"selectorMs", finiteOrZero(f.selectorMs)},
-                    {"triangles", f.triangles},
-                    {"nodesPerLevel", f.nodesPerLevel},
-                    {"upToggles", f.upToggles},
-                    {"downToggles", f.downToggles},
-                    {"vTime", finiteOrZero(f.vTime)},
-                    {"residentBytes", f.residentBytes},
-                    {"capBytes", f.capBytes},
-                    {"loadsStarted", f.loadsStarted},
-                    {"loadsFinished", f.loadsFinished},
-                    {"unloads", f.unloads},
-                    {"coarserNotResident", f.coarserNotResident},
-                    {"stalls", f.stalls}});
+namespace {
+
+using OrderedJson = nlohmann::ordered_json;
+
+// The one list of a frame's fields, in stats.json and stats.csv order (nodesPerLevel last: the
+// CSV spreads it over level0, level1, ... columns).
+OrderedJson frameObject(const FrameRecord& f) {
+  return {{"index", f.index},
+          {"time", finiteOrZero(f.time)},
+          {"targetMs", finiteOrZero(f.targetMs)},
+          {"estimatedMs", finiteOrZero(f.estimatedMs)},
+          {"gpuMs", finiteOrZero(f.gpuMs)},
+          {"cpuMs", finiteOrZero(f.cpuMs)},
+          {"selectorMs", finiteOrZero(f.selectorMs)},
+          {"uploadMs", finiteOrZero(f.uploadMs)},
+          {"drawMs", finiteOrZero(f.drawMs)},
+          {"queryGpuMs", finiteOrZero(f.queryGpuMs)},
+          {"triangles", f.triangles},
+          {"upToggles", f.upToggles},
+          {"downToggles", f.downToggles},
+          {"vTime", finiteOrZero(f.vTime)},
+          {"residentBytes", f.residentBytes},
+          {"capBytes", f.capBytes},
+          {"loadsStarted", f.loadsStarted},
+          {"loadsFinished", f.loadsFinished},
+          {"unloads", f.unloads},
+          {"loadErrors", f.loadErrors},
+          {"bytesRead", f.bytesRead},
+          {"cacheHits", f.cacheHits},
+          {"uploads", f.uploads},
+          {"uploadBytes", f.uploadBytes},
+          {"pendingUploads", f.pendingUploads},
+          {"coarserNotResident", f.coarserNotResident},
+          {"stalls", f.stalls},
+          {"nodesPerLevel", f.nodesPerLevel}};
+}
+
+OrderedJson summaryObject(const FrameSummary& s) {
+  return {{"frames", s.frames},
+          {"medianRelError", s.medianRelError},
+          {"p95RelError", s.p95RelError},
+          {"shareOverTarget", s.shareOverTarget},
+          {"shareOver125", s.shareOver125},
+          {"p99OverTarget", s.p99OverTarget},
+          {"meanGpuMs", s.meanGpuMs},
+          {"totalStalls", s.totalStalls},
+          {"peakResidentBytes", s.peakResidentBytes},
+          {"capBytes", s.capBytes},
+          {"peakOverCap", s.peakOverCap},
+          {"togglesPerFrame", s.togglesPerFrame},
+          {"totalUpToggles", s.totalUpToggles},
+          {"totalDownToggles", s.totalDownToggles},
+          {"meanTriangles", s.meanTriangles},
+          {"coarserPerFrame", s.coarserPerFrame}};
+}
+
+}  // namespace
+
+std::string frameJson(const FrameRecord& frame) {
+  return frameObject(frame).dump();
+}
+
+std::string summaryJson(const FrameSummary& summary) {
+  return summaryObject(summary).dump();
+}
+
+std::string statsJson(std::span<const FrameRecord> frames, const FrameSummary& s,
+                      const std::string& extra) {
+  OrderedJson list = OrderedJson::array();
+  for (const FrameRecord& f : frames) list.push_back(frameObject(f));
+  OrderedJson out = {{"frames", std::move(list)}, {"summary", summaryObject(s)}};
+  if (!extra.empty()) {
+    auto more = OrderedJson::parse(extra, nullptr, false);
+    assert(more.is_object() && "statsJson: extra must be a JSON object");
+    if (more.is_object())
+      for (auto it = more.begin(); it != more.end(); ++it) out[it.key()] = it.value();
   }
-  json summary = {{"frames", s.frames},
-                  {"medianRelError", s.medianRelError},
-                  {"p95RelError", s.p95RelError},
-                  {"shareOverTarget", s.shareOverTarget},
-                  {"shareOver125", s.shareOver125},
-                  {"p99OverTarget", s.p99OverTarget},
-                  {"meanGpuMs", s.meanGpuMs},
-                  {"totalStalls", s.totalStalls},
-                  {"peakResidentBytes", s.peakResidentBytes},
-                  {"capBytes", s.capBytes},
-                  {"peakOverCap", s.peakOverCap},
-                  {"togglesPerFrame", s.togglesPerFrame},
-                  {"totalUpToggles", s.totalUpToggles},
-                  {"totalDownToggles", s.totalDownToggles},
-                  {"meanTriangles", s.meanTriangles},
-                  {"coarserPerFrame", s.coarserPerFrame}};
-  return json{{"frames", list}, {"summary", summary}}.dump(1);
+  return out.dump(1);
 }
 
 std::string statsCsv(std::span<const FrameRecord> frames) {
   std::size_t levels = 0;
   for (const FrameRecord& f : frames) levels = std::max(levels, f.nodesPerLevel.size());
   std::ostringstream out;
-  out.precision(9);
-  out << "index,time,targetMs,estimatedMs,gpuMs,cpuMs,selectorMs,triangles,upToggles,downToggles,"
-         "vTime,residentBytes,capBytes,loadsStarted,loadsFinished,unloads,coarserNotResident,"
-         "stalls";
+  // Columns and values from the same frame object, nodesPerLevel spread over levelN columns.
+  auto row = [&](const OrderedJson& object, bool header) {
+    bool first = true;
+    for (auto it = object.begin(); it != object.end(); ++it) {
+      if (it.key() == "nodesPerLevel") continue;
+      out << (first ? "" : ",") << (header ? it.key() : it.value().dump());
+      first = false;
+    }
+  };
+  row(frameObject(FrameRecord{}), true);
   for (std::size_t l = 0; l < levels; ++l) out << ",level" << l;
   out << '\n';
   for (const FrameRecord& f : frames) {
-    out << f.index << ',' << finiteOrZero(f.time) << ',' << finiteOrZero(f.targetMs) << ','
-        << finiteOrZero(f.estimatedMs) << ',' << finiteOrZero(f.gpuMs) << ','
-        << finiteOrZero(f.cpuMs) << ',' << finiteOrZero(f.selectorMs) << ',' << f.triangles << ','
-        << f.upToggles << ',' << f.downToggles << ',' << finiteOrZero(f.vTime) << ','
-        << f.residentBytes << ',' << f.capBytes << ',' << f.loadsStarted << ',' << f.loadsFinished
-        << ',' << f.unloads << ',' << f.coarserNotResident << ',' << f.stalls;
-    for (std::size_t l = 0; l < levels; ++l) {
+    row(frameObject(f), false);
+    for (std::size_t l = 0; l < levels; ++l)
       out << ',' << (l < f.nodesPerLevel.size() ? f.nodesPerLevel[l] : 0u);
-    }
     out << '\n';
   }
   return out.str();
 }
 
 Status writeStatsJson(const std::string& path, std::span<const FrameRecord> frames,
-                      const FrameSummary& summary) {
-  return writeText(path, statsJson(frames, summary) + "\n");
+                      const FrameSummary& summary, const std::string& extra) {
+  return writeText(path, statsJson(frames, summary, extra) + "\n");
 }
 
 Status writeStatsCsv(const std::string& path, std::span<const FrameRecord> frames) {

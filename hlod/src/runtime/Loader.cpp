@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace hlod {
 
@@ -55,26 +56,69 @@ Loader::~Loader() {
 
 Status Loader::loadRoots() {
   std::lock_guard stepLock(stepMutex_);
+  // hlod_0 is loaded before the first frame: on an emulated link too slow for it, say so now
+  // instead of waiting for hours without a word.
+  if (params_.ioMbps > 0.0) {
+    std::uint64_t bytes = 0;
+    for (std::uint32_t r : skeleton_.roots)
+      if (r < skeleton_.nodes.size()) bytes += skeleton_.nodes[r].payloadSize;
+    const double seconds = static_cast<double>(bytes) * 8.0 / (params_.ioMbps * 1e6) +
+                           params_.ioLatencyMs * 1e-3 * static_cast<double>(skeleton_.roots.size());
+    if (seconds > kMaxRootLoadSeconds) {
+      char msg[256];
+      std::snprintf(msg, sizeof msg,
+                    "loading hlod_0 (%.1f MB) over the emulated link of %g Mbit/s would take "
+                    "%.0f s before the first frame (more than %.0f s): use a faster link",
+                    static_cast<double>(bytes) / 1e6, params_.ioMbps, seconds, kMaxRootLoadSeconds);
+      return makeError(msg);
+    }
+  }
   for (std::uint32_t r : skeleton_.roots) {
     if (r >= resident_.size())
       return makeError("hlod_0 node " + std::to_string(r) + " out of range");
     if (residentFlag_[r].load()) continue;
+    if (params_.cache) {
+      if (auto hit = params_.cache->find(r)) {
+        std::lock_guard lock(mutex_);
+        ++counters_.loadsStarted;
+        ++counters_.cacheHits;
+        adoptLocked(r, std::move(hit));
+        continue;
+      }
+    }
     {
       // The next roots are requested while this one streams, as in the loading thread.
       std::lock_guard lock(mutex_);
       issueAheadLocked(r, [&](std::uint32_t n) { return isRoot_[n] && !resident_[n]; });
     }
     const std::uint64_t size = skeleton_.nodes[r].payloadSize;
-    std::vector<std::byte> bytes(size);
+    if (params_.cache && !params_.cache->reserve(skeleton_.nodes[r].memoryBytes))
+      return makeError("hlod_0 node " + std::to_string(r) +
+                       " does not fit the server's node memory cap");
+    std::vector<std::byte> bytes;
+    try {
+      bytes.resize(size);
+    } catch (const std::bad_alloc&) {
+      if (params_.cache) params_.cache->release(skeleton_.nodes[r].memoryBytes);
+      return makeError("hlod_0 node " + std::to_string(r) + ": cannot allocate " +
+                       std::to_string(size) + " bytes");
+    }
     for (std::uint64_t off = 0; off < size; off += params_.chunkBytes) {
       const std::size_t len =
           static_cast<std::size_t>(std::min<std::uint64_t>(params_.chunkBytes, size - off));
       throttle(r, off, len);
       Status s = source_.readPayloadChunk(r, off, std::span<std::byte>(bytes.data() + off, len));
-      if (!s) return makeError("hlod_0 node " + std::to_string(r) + ": " + s.message());
+      if (!s) {
+        if (params_.cache) params_.cache->release(skeleton_.nodes[r].memoryBytes);
+        return makeError("hlod_0 node " + std::to_string(r) + ": " + s.message());
+      }
+      if (stopRequested()) return makeError("stopped while loading hlod_0");
     }
-    Result<LocalMesh> mesh = source_.decodePayload(r, bytes);
-    if (!mesh) return makeError("hlod_0 node " + std::to_string(r) + ": " + mesh.message());
+    Result<LocalMesh> mesh = decodeGuarded(r, bytes);
+    if (!mesh) {
+      if (params_.cache) params_.cache->release(skeleton_.nodes[r].memoryBytes);
+      return makeError("hlod_0 node " + std::to_string(r) + ": " + mesh.message());
+    }
     std::lock_guard lock(mutex_);
     ++counters_.loadsStarted;
     counters_.bytesRead += size;
@@ -162,6 +206,7 @@ void Loader::dropPartialLocked(std::uint32_t node) {
   auto it = partials_.find(node);
   if (it == partials_.end()) return;
   counters_.inFlightBytes -= skeleton_.nodes[node].memoryBytes;
+  if (it->second->cacheReserved) params_.cache->release(skeleton_.nodes[node].memoryBytes);
   partials_.erase(it);
   if (current_ == node) current_ = kNoNode;
 }
@@ -306,7 +351,11 @@ void Loader::throttle(std::uint32_t node, std::uint64_t offset, std::size_t len)
     counters_.latencyMs += ms;
   }
   if (params_.ioMbps > 0.0) ms += static_cast<double>(len) * 8.0 / (params_.ioMbps * 1e3);
-  if (ms > 0.0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(ms));
+  if (ms > 0.0) {
+    // Not a plain sleep: a stop() must not wait out an emulated transfer of minutes.
+    std::unique_lock lock(mutex_);
+    workCv_.wait_for(lock, std::chrono::duration<double, std::milli>(ms), [&] { return stop_; });
+  }
 }
 
 bool Loader::step() {
@@ -328,12 +377,40 @@ bool Loader::step() {
       ++counters_.preemptions;
       if (!params_.keepPartial) dropPartialLocked(current_);
     }
+    auto it = partials_.find(node);
+    if (it == partials_.end() && params_.cache) {
+      // Another session of this store has it decoded: no read, no decode.
+      if (auto hit = params_.cache->find(node)) {
+        if (current_ == node) current_ = kNoNode;
+        ++counters_.loadsStarted;
+        ++counters_.cacheHits;
+        adoptLocked(node, std::move(hit));
+        return true;
+      }
+    }
     current_ = node;
     size = skeleton_.nodes[node].payloadSize;
-    auto it = partials_.find(node);
     if (it == partials_.end()) {
       auto fresh = std::make_unique<Partial>();
-      fresh->bytes.resize(size);
+      // The error boundary of the loading thread: a node too large to allocate (a forged
+      // skeleton) fails alone instead of ending the process.
+      try {
+        fresh->bytes.resize(size);
+      } catch (const std::bad_alloc&) {
+        current_ = kNoNode;
+        failLocked(node, "cannot allocate " + std::to_string(size) + " bytes");
+        return true;
+      }
+      if (params_.cache) {
+        if (!params_.cache->reserve(skeleton_.nodes[node].memoryBytes)) {
+          // The sessions of this store hold the server's cap: wait for them to let go.
+          current_ = kNoNode;
+          idle_ = true;
+          progressCv_.notify_all();
+          return false;
+        }
+        fresh->cacheReserved = true;
+      }
       it = partials_.emplace(node, std::move(fresh)).first;
       // Reserve what the node will hold decoded, so that finishing it cannot pass the cap.
       counters_.inFlightBytes += skeleton_.nodes[node].memoryBytes;
@@ -373,25 +450,55 @@ bool Loader::step() {
     counters_.bytesRead += len;
     if (part->filled < size) return true;
   }
-  Result<LocalMesh> mesh = source_.decodePayload(node, part->bytes);
+  Result<LocalMesh> mesh = decodeGuarded(node, part->bytes);
   std::lock_guard lock(mutex_);
   finishLocked(node, std::move(mesh));
   return true;
 }
 
+Result<LocalMesh> Loader::decodeGuarded(std::uint32_t node, std::span<const std::byte> bytes) {
+  try {
+    return source_.decodePayload(node, bytes);
+  } catch (const std::bad_alloc&) {
+    return makeError("cannot allocate the decoded payload (" +
+                     std::to_string(skeleton_.nodes[node].memoryBytes) + " bytes)");
+  }
+}
+
+bool Loader::stopRequested() {
+  std::lock_guard lock(mutex_);
+  return stop_;
+}
+
+void Loader::failLocked(std::uint32_t node, const std::string& why) {
+  failed_[node] = 1;
+  ++counters_.loadErrors;
+  lastError_ = "node " + std::to_string(node) + ": " + why;
+  orderDirty_ = true;
+  progressCv_.notify_all();
+}
+
 void Loader::finishLocked(std::uint32_t node, Result<LocalMesh> mesh) {
+  // The cache takes over the reservation of a decoded node; a failed one gives it back.
+  const auto part = partials_.find(node);
+  const bool reserved = part != partials_.end() && part->second->cacheReserved;
+  if (reserved && mesh) part->second->cacheReserved = false;
   dropPartialLocked(node);
   if (current_ == node) current_ = kNoNode;
   orderDirty_ = true;
   if (!mesh) {
-    failed_[node] = 1;
-    ++counters_.loadErrors;
-    lastError_ = "node " + std::to_string(node) + ": " + mesh.message();
-    progressCv_.notify_all();
+    failLocked(node, mesh.message());
     return;
   }
+  // (hlod_0 nodes from loadRoots have no partial: they reserved in the cache themselves.)
+  const std::uint64_t bytes = skeleton_.nodes[node].memoryBytes;
+  adoptLocked(node, params_.cache ? params_.cache->insert(node, std::move(mesh).value(), bytes)
+                                  : std::make_shared<const LocalMesh>(std::move(mesh).value()));
+}
+
+void Loader::adoptLocked(std::uint32_t node, std::shared_ptr<const LocalMesh> shared) {
+  orderDirty_ = true;
   const NodeInfo& n = skeleton_.nodes[node];
-  auto shared = std::make_shared<const LocalMesh>(std::move(mesh).value());
   resident_[node] = shared;
   residentFlag_[node].store(true);
   counters_.residentBytes += n.memoryBytes;
