@@ -56,6 +56,8 @@ class LakhiaSelector final : public Selector {
   // Spends what the slices left of c_targetTime on further refinements (see the .cpp).
   template <class Visit>
   void fillBudget(Selection& s, const Residency& residency, Visit&& visit);
+  // Coarsens a front that the hysteresis keeps far over the aim (see the .cpp).
+  void shedBudget(Selection& s);
 
   std::vector<double> hyst_;
   std::vector<double> timeSlice_;

@@ -112,6 +112,12 @@ struct LakhiaParams {
   double vTimeInitial = 1e-5;  // ms per unit of cost: 100 M triangles/s as a first guess
   double feedbackGain = 0.2;
   double feedbackMaxRatio = 4.0;
+  // A real change, not noise (an addition): when the median of the last three frames is more
+  // than feedbackJumpRatio times off, v_time jumps to it (within feedbackMaxRatio^2 a frame)
+  // instead of moving by r^gain. Frame-time noise moves the median by ~10%; a new view, effect
+  // or machine load moves it by 2-10x, and a 10x change is then followed within 3 frames
+  // instead of ~10. 0 disables it.
+  double feedbackJumpRatio = 2.0;
   // Slices are capped at c_demandMargin times the need of the node's leaves (see sliceSiblings).
   double c_demandMargin = 1.5;
   // The selector aims at c_aim * c_targetTime (an addition): the slices share that, and the
@@ -133,6 +139,13 @@ struct LakhiaParams {
   double c_fillAdd = 0.05;
   double c_fillFast = 0.1;
   double c_fillGain = 0.05;
+  // Shedding (an addition): the urgency hysteresis keeps a refined group while its counters
+  // are positive, which after a sudden slowdown (a 10x dearer view, a loaded machine) keeps the
+  // frame several times over budget for ~8 frames. When the front's estimate by the fast
+  // v_time exceeds (1 + c_shed) of the aim, the refined groups of lowest priority are collapsed
+  // back into their parents until it fits the aim. Far outside the fill's band, so noise
+  // never triggers it.
+  double c_shed = 0.25;
 };
 
 struct SelectorParams {
@@ -155,10 +168,12 @@ std::string selectorParamNames();  // space-separated
 // times noise, so log(v_time/k) shrinks by (1-gain) per frame: a first-order low-pass with no
 // overshoot for 0 < gain <= 1 (no oscillation). The median of three (an addition) passes a
 // change that lasts two frames and drops a lone outlier frame (a page fault, a scheduler
-// hiccup) entirely; the clamp bounds what the first frames can do (maxRatio^gain).
+// hiccup) entirely; the clamp bounds what the first frames can do (maxRatio^gain). A median
+// more than jumpRatio off is a real change: v_time jumps to it (clamped to maxRatio^2), so that
+// a 10x change is followed within three frames (LakhiaParams::feedbackJumpRatio).
 class VTimeFeedback {
  public:
-  VTimeFeedback(double initial, double gain, double maxRatio);
+  VTimeFeedback(double initial, double gain, double maxRatio, double jumpRatio = 0.0);
   // drawnCost: the summed cost of the frame that took measuredMs. Ignored when either is not
   // positive and finite (an empty frame says nothing about the cost per triangle).
   void update(double measuredMs, double drawnCost);
@@ -171,6 +186,7 @@ class VTimeFeedback {
   std::size_t observedCount_ = 0;
   double gain_;
   double maxRatio_;
+  double jumpRatio_;
 };
 
 class Selector {
@@ -210,6 +226,10 @@ class Selector {
   // had refined it (toggle counters included). Call finishFrame again afterwards.
   void replaceByChildren(std::uint32_t node, const std::vector<std::uint32_t>& children,
                          Selection& s);
+  // The inverse: a node refined this frame whose children are all drawn (none refined further)
+  // is drawn instead of them. Call finishFrame again afterwards.
+  void replaceByParent(std::uint32_t node, Selection& s);
+  bool refinedThisFrame(std::uint32_t node) const { return refinedFrame_[node] == frame_; }
   double effectiveCost(std::uint32_t node) const;  // max(cost, c_minCost)
   bool refinedLastFrame(std::uint32_t node) const { return refinedFrame_[node] == frame_ - 1; }
 
@@ -263,9 +283,10 @@ class Selector {
   VTimeFeedback steadyFeedback_;
   double lastEstimatedCost_ = 0.0;
   std::uint32_t maxLevel_ = 0;
-  std::vector<std::uint32_t> drawnFrame_;    // last frame each node was drawn
-  std::vector<std::uint32_t> drawnBefore_;   // drawnFrame_ before markDrawn set it this frame
-  std::vector<std::uint32_t> refinedFrame_;  // last frame each node was replaced by children
+  std::vector<std::uint32_t> drawnFrame_;     // last frame each node was drawn
+  std::vector<std::uint32_t> drawnBefore_;    // drawnFrame_ before markDrawn set it this frame
+  std::vector<std::uint32_t> refinedFrame_;   // last frame each node was replaced by children
+  std::vector<std::uint32_t> refinedBefore_;  // refinedFrame_ before markRefined set it
 };
 
 // "lakhia", "sse", "fs" or "full"; an unknown name is an Error listing the known ones.

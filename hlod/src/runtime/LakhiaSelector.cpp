@@ -190,7 +190,43 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
         return cumHyst >= threshold;
       });
   fillBudget(s, residency, visit);
+  shedBudget(s);
   return s;
+}
+
+void LakhiaSelector::shedBudget(Selection& s) {
+  const double limit = aimMs_ * (1.0 + std::max(0.0, finiteOr(params_.lakhia.c_shed, 0.25)));
+  const double v = vTime();
+  if (!(v * s.estimatedCost > limit)) return;
+  const auto& nodes = skeleton_.nodes;
+  // A group can go back to its parent when none of its children was refined further.
+  auto collapsible = [&](std::uint32_t p) {
+    if (p >= nodes.size() || !refinedThisFrame(p)) return false;
+    for (std::uint32_t c = nodes[p].firstChild; c < nodes[p].firstChild + nodes[p].childCount; ++c)
+      if (refinedThisFrame(c)) return false;
+    return true;
+  };
+  // Lowest priority first: the detail that buys the least goes first.
+  std::vector<std::pair<double, std::uint32_t>> heap;
+  auto push = [&](std::uint32_t p) {
+    heap.emplace_back(-priority_[p], p);
+    std::push_heap(heap.begin(), heap.end());
+  };
+  std::vector<std::uint8_t> queued(nodes.size(), 0);
+  for (std::uint32_t n : s.front) {
+    const std::uint32_t p = nodes[n].parent;
+    if (p != kNoNode && !queued[p] && collapsible(p)) queued[p] = 1, push(p);
+  }
+  while (!heap.empty() && v * s.estimatedCost > aimMs_) {
+    std::pop_heap(heap.begin(), heap.end());
+    const std::uint32_t p = heap.back().second;
+    heap.pop_back();
+    if (!collapsible(p)) continue;
+    replaceByParent(p, s);
+    const std::uint32_t up = nodes[p].parent;
+    if (up != kNoNode && !queued[up] && collapsible(up)) queued[up] = 1, push(up);
+  }
+  finishFrame(s);
 }
 
 template <class Visit>

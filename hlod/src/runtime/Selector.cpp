@@ -1,6 +1,7 @@
 #include "hlod/Selector.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "hlod/FsSelector.h"
@@ -15,10 +16,11 @@ constexpr double kMinVTime = 1e-12;
 constexpr double kMaxVTime = 1e6;
 }  // namespace
 
-VTimeFeedback::VTimeFeedback(double initial, double gain, double maxRatio)
+VTimeFeedback::VTimeFeedback(double initial, double gain, double maxRatio, double jumpRatio)
     : vTime_(kMinVTime),
       gain_(std::isfinite(gain) ? std::clamp(gain, 0.0, 1.0) : 0.2),
-      maxRatio_(std::isfinite(maxRatio) && maxRatio > 1.0 ? maxRatio : 4.0) {
+      maxRatio_(std::isfinite(maxRatio) && maxRatio > 1.0 ? maxRatio : 4.0),
+      jumpRatio_(std::isfinite(jumpRatio) && jumpRatio > 1.0 ? jumpRatio : 0.0) {
   set(initial);
 }
 
@@ -36,7 +38,14 @@ void VTimeFeedback::update(double measuredMs, double drawnCost) {
   std::sort(last.begin(), last.begin() + n);
   // The median of three; of two, the smaller (the newer frame must be confirmed to go up).
   const double k = n == 3 ? last[1] : last[0];
-  const double ratio = std::clamp(k / vTime_, 1.0 / maxRatio_, maxRatio_);
+  const double off = k / vTime_;
+  if (n == 3 && jumpRatio_ > 0.0 && (off > jumpRatio_ || off < 1.0 / jumpRatio_)) {
+    // Three frames agree on a real change: follow it now.
+    const double m = maxRatio_ * maxRatio_;
+    vTime_ = std::clamp(vTime_ * std::clamp(off, 1.0 / m, m), kMinVTime, kMaxVTime);
+    return;
+  }
+  const double ratio = std::clamp(off, 1.0 / maxRatio_, maxRatio_);
   vTime_ = std::clamp(vTime_ * std::pow(ratio, gain_), kMinVTime, kMaxVTime);
 }
 
@@ -44,12 +53,13 @@ Selector::Selector(const Skeleton& skeleton, const SelectorParams& params)
     : skeleton_(skeleton),
       params_(params),
       feedback_(params.lakhia.vTimeInitial, params.lakhia.feedbackGain,
-                params.lakhia.feedbackMaxRatio),
+                params.lakhia.feedbackMaxRatio, params.lakhia.feedbackJumpRatio),
       steadyFeedback_(params.lakhia.vTimeInitial, params.lakhia.c_fillGain,
-                      params.lakhia.feedbackMaxRatio),
+                      params.lakhia.feedbackMaxRatio, params.lakhia.feedbackJumpRatio),
       drawnFrame_(skeleton.nodes.size(), kNever),
       drawnBefore_(skeleton.nodes.size(), kNever),
-      refinedFrame_(skeleton.nodes.size(), kNever) {
+      refinedFrame_(skeleton.nodes.size(), kNever),
+      refinedBefore_(skeleton.nodes.size(), kNever) {
   for (const NodeInfo& n : skeleton.nodes) maxLevel_ = std::max(maxLevel_, n.level);
 }
 
@@ -78,6 +88,7 @@ Selection Selector::beginFrame(const View& view) {
 
 void Selector::markRefined(std::uint32_t node, Selection& s) {
   if (drawnFrame_[node] == frame_ - 1) ++s.upToggles;
+  refinedBefore_[node] = refinedFrame_[node];
   refinedFrame_[node] = frame_;
 }
 
@@ -106,6 +117,27 @@ void Selector::replaceByChildren(std::uint32_t node, const std::vector<std::uint
   if (n.level < s.nodesDrawnPerLevel.size()) --s.nodesDrawnPerLevel[n.level];
   markRefined(node, s);
   for (std::uint32_t c : children) markDrawn(c, s);
+}
+
+void Selector::replaceByParent(std::uint32_t node, Selection& s) {
+  assert(refinedFrame_[node] == frame_);
+  const NodeInfo& info = skeleton_.nodes[node];
+  const std::uint32_t first = info.firstChild, end = info.firstChild + info.childCount;
+  // Undo the children's markDrawn and the node's markRefined, then draw the node.
+  std::erase_if(s.front, [&](std::uint32_t n) {
+    if (n < first || n >= end) return false;
+    assert(refinedFrame_[n] != frame_);
+    if (refinedFrame_[n] == frame_ - 1) --s.downToggles;
+    drawnFrame_[n] = drawnBefore_[n];
+    const NodeInfo& c = skeleton_.nodes[n];
+    s.estimatedCost -= effectiveCost(n);
+    s.triangles -= c.numTri;
+    if (c.level < s.nodesDrawnPerLevel.size()) --s.nodesDrawnPerLevel[c.level];
+    return true;
+  });
+  if (drawnFrame_[node] == frame_ - 1) --s.upToggles;
+  refinedFrame_[node] = refinedBefore_[node];
+  markDrawn(node, s);
 }
 
 void Selector::finishFrame(Selection& s) {

@@ -28,6 +28,8 @@ constexpr Named kLakhiaDoubles[] = {
     {"vTimeInitial", &LakhiaParams::vTimeInitial},
     {"feedbackGain", &LakhiaParams::feedbackGain},
     {"feedbackMaxRatio", &LakhiaParams::feedbackMaxRatio},
+    {"feedbackJumpRatio", &LakhiaParams::feedbackJumpRatio},
+    {"c_shed", &LakhiaParams::c_shed},
     {"c_demandMargin", &LakhiaParams::c_demandMargin},
     {"c_aim", &LakhiaParams::c_aim},
     {"c_fillKeep", &LakhiaParams::c_fillKeep},
