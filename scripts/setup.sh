@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config git
   libgtest-dev libgmock-dev libbenchmark-dev
   libglm-dev libopenmesh-dev libmeshoptimizer-dev libopenimageio-dev
-  libtinygltf-dev libstb-dev nlohmann-json3-dev libcpp-httplib-dev libdeflate-dev
+  libtinygltf-dev libstb-dev nlohmann-json3-dev libcpp-httplib-dev libdeflate-dev libturbojpeg0-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6 libosmesa6-dev
   ffmpeg
 )

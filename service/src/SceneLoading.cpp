@@ -7,6 +7,7 @@
 
 #include "hlod/City.h"
 #include "hlod/Import.h"
+#include "renderer/GpuNodeRenderer.h"
 
 namespace service {
 
@@ -73,10 +74,7 @@ CameraPose defaultCamera(const hlod::Aabb& bounds, const glm::dvec3& up, double 
 }
 
 void clipPlanes(const CameraPose& camera, const hlod::Aabb& bounds, double& zNear, double& zFar) {
-  const double radius = std::max(glm::length(bounds.size()) * 0.5, 1e-6);
-  const double d = glm::length(camera.position - bounds.centre());
-  zFar = d + radius * 1.5;
-  zNear = std::max((d - radius) * 0.5, zFar * 1e-6);
+  renderer::clipPlanesFor(camera.position, bounds, zNear, zFar);
 }
 
 }  // namespace service

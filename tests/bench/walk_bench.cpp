@@ -24,7 +24,7 @@
 #include "hlod/City.h"
 #include "hlod/HlodBuilder.h"
 #include "hlod/NodeStore.h"
-#include "service/PathSession.h"
+#include "service/Session.h"
 
 namespace {
 
@@ -35,23 +35,22 @@ struct Run {
 };
 
 hlod::Result<hlod::FrameSummary> runOnce(const std::filesystem::path& store,
-                                         const hlod::CameraPath& path,
-                                         service::PathSessionOptions o, long long frames,
-                                         const std::filesystem::path& plots,
+                                         const hlod::CameraPath& path, service::SessionOptions o,
+                                         long long frames, const std::filesystem::path& plots,
                                          const std::string& prefix, double prefetchSeconds = 0.0) {
-  auto session = service::PathSession::open(store, o);
+  auto session = service::Session::open(store, o);
   if (!session) return session.error();
-  service::PathRunOptions r;
-  r.statsDir =
-      (plots.empty() ? std::filesystem::temp_directory_path() / "walk_bench_stats" : plots) /
-      (prefix.empty() ? "sse_tuning" : prefix);
-  std::filesystem::create_directories(r.statsDir);
+  hlod::PathRunOptions r;
   r.maxFrames = frames;
   r.prefetchSeconds = prefetchSeconds;
-  auto result = service::runPath(**session, path, r);
+  service::FileOutputs fo;
+  fo.statsDir =
+      (plots.empty() ? std::filesystem::temp_directory_path() / "walk_bench_stats" : plots) /
+      (prefix.empty() ? "sse_tuning" : prefix);
+  fo.plots = !plots.empty() && !prefix.empty();
+  std::filesystem::create_directories(fo.statsDir);
+  auto result = service::runPathToFiles(**session, path, r, fo);
   if (!result) return result.error();
-  if (!plots.empty() && !prefix.empty())
-    if (auto s = (*session)->writePlots(r.statsDir); !s) return s.error();
   return result->summary;
 }
 
@@ -141,11 +140,10 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  service::PathSessionOptions base;
+  service::SessionOptions base;
   base.width = 1280;
   base.height = 720;
   base.budgetMs = 33.0;
-  base.mode = service::PathMode::Realtime;
   base.memoryCapBytes = std::uint64_t(memoryMb * 1024 * 1024);
   base.selectorParams = params;
   std::printf("walk-fly %.1f s at 30 fps, 1280x720, budget 33 ms, realtime, cap %.0f MB\n",
@@ -154,7 +152,7 @@ int main(int argc, char** argv) {
               "p95|d|", ">tgt", ">1.25x", "p99/t", "stalls", "pk/cap", "tog/fr", "tri/fr",
               "crs/fr");
   for (int io = ioFirst; io <= ioLast; ++io) {
-    service::PathSessionOptions o = base;
+    service::SessionOptions o = base;
     if (io) o.ioMbps = 50.0, o.ioLatencyMs = 5.0, o.ioRequests = ioRequests;
     const std::string link = io ? ", 50 Mbit/s 5 ms" : ", unthrottled";
     o.selector = first;

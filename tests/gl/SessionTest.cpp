@@ -1,7 +1,7 @@
-// PathSession on a real (software) GL context: a tiny node store built in the test from two
+// Session on a real (software) GL context: a tiny node store built in the test from two
 // procedural city blocks, an orbit path, settled and realtime runs, and the CLI end to end.
 #include "RunHlodr.h"
-#include "service/PathSession.h"
+#include "service/Session.h"
 
 #include <sys/wait.h>
 
@@ -50,7 +50,7 @@ const fs::path& tinyStore() {
   return store;
 }
 
-class PathSessionTest : public ::testing::Test {
+class SessionTest : public ::testing::Test {
  protected:
   static void TearDownTestSuite() {
     std::error_code ec;
@@ -67,13 +67,15 @@ class PathSessionTest : public ::testing::Test {
     fs::remove_all(out);
   }
 
-  service::PathSessionOptions smallOptions(service::PathMode mode) const {
-    service::PathSessionOptions o;
+  service::SessionOptions smallOptions() const {
+    service::SessionOptions o;
     o.width = 160;
     o.height = 90;
-    o.mode = mode;
     o.budgetMs = 5.0;
     return o;
+  }
+  static std::vector<hlod::FrameRecord> frames(const service::Session& s) {
+    return {s.recent().begin(), s.recent().end()};
   }
 
   std::uint64_t rootBytes() const {
@@ -96,27 +98,30 @@ std::size_t countFiles(const fs::path& dir, const std::string& ext) {
 
 }  // namespace
 
-TEST_F(PathSessionTest, SettledRunWritesOneRecordAndOnePngPerFrameWithNoCoarserNodes) {
-  auto session = service::PathSession::open(tinyStore(), smallOptions(service::PathMode::Settled));
+TEST_F(SessionTest, SettledRunWritesOneRecordAndOnePngPerFrameWithNoCoarserNodes) {
+  auto session = service::Session::open(tinyStore(), smallOptions());
   ASSERT_TRUE(session.ok()) << session.message();
-  service::PathRunOptions ro;
-  ro.output = out;
+  hlod::PathRunOptions ro;
   ro.fps = 10.0;
   ro.maxFrames = 20;
-  ro.plots = true;
-  auto result = service::runPath(**session, *path, ro);
+  ro.mode = hlod::FrameMode::Settled;
+  service::FileOutputs fo;
+  fo.output = out;
+  fo.plots = true;
+  auto result = service::runPathToFiles(**session, *path, ro, fo);
   ASSERT_TRUE(result.ok()) << result.message();
 
-  ASSERT_EQ((*session)->frames().size(), 20u);
+  ASSERT_EQ(result->run.framesRendered, 20u);
+  ASSERT_EQ(frames(**session).size(), 20u);
   EXPECT_EQ(countFiles(out, ".png"), 20u);
   EXPECT_TRUE(fs::exists(out / "frame_00019.png"));
-  for (const auto& f : (*session)->frames()) {
+  for (const auto& f : frames(**session)) {
     EXPECT_EQ(f.coarserNotResident, 0u) << "frame " << f.index;
     EXPECT_GT(f.triangles, 0u);
   }
   // Settled frames draw below hlod_0 once the front is loaded.
   std::uint64_t deeper = 0;
-  for (const auto& f : (*session)->frames())
+  for (const auto& f : frames(**session))
     for (std::size_t l = 1; l < f.nodesPerLevel.size(); ++l) deeper += f.nodesPerLevel[l];
   EXPECT_GT(deeper, 0u);
 
@@ -132,23 +137,24 @@ TEST_F(PathSessionTest, SettledRunWritesOneRecordAndOnePngPerFrameWithNoCoarserN
     EXPECT_GT(fs::file_size(out / svg), 100u) << svg;
 }
 
-TEST_F(PathSessionTest, RealtimeRunNeverStallsAndKeepsResidentBytesUnderTheCap) {
-  auto o = smallOptions(service::PathMode::Realtime);
+TEST_F(SessionTest, RealtimeRunNeverStallsAndKeepsResidentBytesUnderTheCap) {
+  auto o = smallOptions();
   o.memoryCapBytes = rootBytes() * 3;  // room for some of the tree, not all of it
   o.ioMbps = 200.0;                    // loading takes frames: render-while-loading happens
-  auto session = service::PathSession::open(tinyStore(), o);
+  auto session = service::Session::open(tinyStore(), o);
   ASSERT_TRUE(session.ok()) << session.message();
-  service::PathRunOptions ro;
-  ro.statsDir = out;
+  hlod::PathRunOptions ro;
   ro.fps = 10.0;
   ro.maxFrames = 20;
   ro.prefetchSeconds = 0.5;
-  auto result = service::runPath(**session, *path, ro);
+  service::FileOutputs fo;
+  fo.statsDir = out;
+  auto result = service::runPathToFiles(**session, *path, ro, fo);
   ASSERT_TRUE(result.ok()) << result.message();
 
-  const auto& frames = (*session)->frames();
-  ASSERT_EQ(frames.size(), 20u);
-  for (const auto& f : frames) {
+  const auto all = frames(**session);
+  ASSERT_EQ(all.size(), 20u);
+  for (const auto& f : all) {
     EXPECT_EQ(f.stalls, 0u) << "frame " << f.index;
     EXPECT_EQ(f.capBytes, o.memoryCapBytes);
     EXPECT_LE(f.residentBytes, f.capBytes) << "frame " << f.index;
@@ -160,29 +166,34 @@ TEST_F(PathSessionTest, RealtimeRunNeverStallsAndKeepsResidentBytesUnderTheCap) 
   EXPECT_EQ(countFiles(out, ".png"), 0u);  // no image output asked for
 }
 
-TEST_F(PathSessionTest, FrameTimeFeedbackChangesVTime) {
-  auto session = service::PathSession::open(tinyStore(), smallOptions(service::PathMode::Realtime));
+TEST_F(SessionTest, StartMeasuresVTimeAndTheFeedbackMovesIt) {
+  auto session = service::Session::open(tinyStore(), smallOptions());
   ASSERT_TRUE(session.ok()) << session.message();
-  const double initial = (*session)->selector().vTime();
+  // The session starts from this GL's measured speed, not the paper's constant first guess.
+  const double measured = (*session)->driver().measuredVTime();
+  EXPECT_GT(measured, 0.0);
+  EXPECT_NE((*session)->selector().vTime(), hlod::LakhiaParams{}.vTimeInitial);
+  EXPECT_DOUBLE_EQ((*session)->selector().vTime(), measured);
   const auto samples = path->sampleAt(10.0, 160.0 / 90.0);
-  for (int i = 0; i < 5; ++i) ASSERT_TRUE((*session)->renderFrame(samples[i]).ok());
-  // The first guess (100 M triangles/s) is not this GL's speed: the loop moves v_time.
-  EXPECT_NE((*session)->selector().vTime(), initial);
-  EXPECT_NE((*session)->frames().back().vTime, (*session)->frames().front().vTime);
+  for (int i = 0; i < 5; ++i)
+    ASSERT_TRUE((*session)->renderFrame(samples[i], hlod::FrameMode::Realtime).ok());
+  const auto all = frames(**session);
+  EXPECT_NE(all.back().vTime, all.front().vTime);
 }
 
-TEST_F(PathSessionTest, TwoSessionsRunSideBySideOnOneThread) {
-  auto a = service::PathSession::open(tinyStore(), smallOptions(service::PathMode::Settled));
-  auto b = service::PathSession::open(tinyStore(), smallOptions(service::PathMode::Realtime));
+TEST_F(SessionTest, TwoSessionsRunSideBySideOnOneThread) {
+  auto a = service::Session::open(tinyStore(), smallOptions());
+  auto b = service::Session::open(tinyStore(), smallOptions());
   ASSERT_TRUE(a.ok()) << a.message();
   ASSERT_TRUE(b.ok()) << b.message();
   const auto samples = path->sampleAt(10.0, 160.0 / 90.0);
   for (int i = 0; i < 4; ++i) {
-    ASSERT_TRUE((*a)->renderFrame(samples[i]).ok());
-    ASSERT_TRUE((*b)->renderFrame(samples[samples.size() - 1 - i]).ok());
+    ASSERT_TRUE((*a)->renderFrame(samples[i], hlod::FrameMode::Settled).ok());
+    ASSERT_TRUE(
+        (*b)->renderFrame(samples[samples.size() - 1 - i], hlod::FrameMode::Realtime).ok());
   }
-  EXPECT_EQ((*a)->frames().size(), 4u);
-  EXPECT_EQ((*b)->frames().size(), 4u);
+  EXPECT_EQ((*a)->recent().size(), 4u);
+  EXPECT_EQ((*b)->recent().size(), 4u);
   // Each readback is its own session's frame: both see the model (not only background).
   for (auto* s : {a->get(), b->get()}) {
     const hlod::Image img = s->readback();
@@ -195,21 +206,21 @@ TEST_F(PathSessionTest, TwoSessionsRunSideBySideOnOneThread) {
   }
 }
 
-TEST_F(PathSessionTest, OpeningSomethingThatIsNotAStoreIsAClearError) {
+TEST_F(SessionTest, OpeningSomethingThatIsNotAStoreIsAClearError) {
   fs::create_directories(out);
-  auto s = service::PathSession::open(out, smallOptions(service::PathMode::Realtime));
+  auto s = service::Session::open(out, smallOptions());
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.message().find("not a node store"), std::string::npos) << s.message();
-  auto bad = smallOptions(service::PathMode::Realtime);
+  auto bad = smallOptions();
   bad.selector = "nope";
-  auto t = service::PathSession::open(tinyStore(), bad);
+  auto t = service::Session::open(tinyStore(), bad);
   ASSERT_FALSE(t.ok());
   EXPECT_NE(t.message().find("unknown selector"), std::string::npos) << t.message();
 }
 
 using gltest::runHlodr;
 
-TEST_F(PathSessionTest, CliWritesAPathAndRendersItToAnMp4) {
+TEST_F(SessionTest, CliWritesAPathAndRendersItToAnMp4) {
   if (std::system("command -v ffmpeg > /dev/null 2>&1") != 0) GTEST_SKIP() << "no ffmpeg";
   fs::create_directories(out);
   const std::string store = tinyStore().string();
@@ -230,7 +241,7 @@ TEST_F(PathSessionTest, CliWritesAPathAndRendersItToAnMp4) {
   EXPECT_NE(r.output.find("12 frames"), std::string::npos) << r.output;
 }
 
-TEST_F(PathSessionTest, CliRejectsBadOptionsAndBadPaths) {
+TEST_F(SessionTest, CliRejectsBadOptionsAndBadPaths) {
   fs::create_directories(out);
   const std::string store = tinyStore().string();
   auto k = runHlodr("path " + store + " --kind spiral -o " + (out / "p.json").string());

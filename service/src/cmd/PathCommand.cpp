@@ -1,5 +1,5 @@
 // `hlodr path STORE --kind walk-fly|drive|orbit -o PATH.json`: a camera path for a node store,
-// and `hlodr render STORE --path PATH.json -o OUT`: a path run through a PathSession.
+// and `hlodr render STORE --path PATH.json -o OUT`: a path run through a Session.
 #include <unistd.h>
 
 #include <cmath>
@@ -11,7 +11,8 @@
 #include "hlod/CameraPath.h"
 #include "hlod/NodeStore.h"
 #include "service/Args.h"
-#include "service/PathSession.h"
+#include "service/Progress.h"
+#include "service/Session.h"
 
 namespace service::cmd {
 
@@ -130,7 +131,7 @@ int runRenderPath(const Argv& argv) {
                  "and -o OUT (a folder or a .mp4)\n");
     return 2;
   }
-  PathSessionOptions so;
+  SessionOptions so;
   if (!parseSize(args->get("size", "1280x720"), so.width, so.height) || so.width < 1 ||
       so.height < 1 || so.width > 8192 || so.height > 8192)
     return usageError("render", "--size must look like 1280x720 (at most 8192x8192)");
@@ -158,19 +159,13 @@ int runRenderPath(const Argv& argv) {
   if (so.selector != "lakhia" && so.selector != "sse" && so.selector != "fs" &&
       so.selector != "full")
     return usageError("render", "--selector must be lakhia, sse, fs or full");
-  const std::string mode = args->get("mode", "realtime");
-  if (mode == "realtime")
-    so.mode = PathMode::Realtime;
-  else if (mode == "settled")
-    so.mode = PathMode::Settled;
-  else
-    return usageError("render", "--mode must be realtime or settled");
+  auto mode = parseMode(args->get("mode", "realtime"));
+  if (!mode) return usageError("render", "--" + mode.message());
   so.effects.lambert = !args->has("unlit");
   so.effects.textures = !args->has("no-textures");
   so.effects.fog = args->has("fog");
   auto backend = renderer::backendFromEnvironment();
   if (!backend) return usageError("render", backend.message());
-  so.backend = *backend;
 
   auto path = hlod::CameraPath::read(args->get("path", ""));
   if (!path) {
@@ -178,7 +173,7 @@ int runRenderPath(const Argv& argv) {
                  path.message().c_str());
     return 1;
   }
-  auto session = PathSession::open(args->positionals()[0], so);
+  auto session = Session::open(args->positionals()[0], so, *backend);
   if (!session) {
     std::fprintf(stderr, "hlodr render: %s\n", session.message().c_str());
     return 1;
@@ -186,17 +181,37 @@ int runRenderPath(const Argv& argv) {
   const bool quiet = args->has("quiet");
   if (!quiet) std::fprintf(stderr, "%s\n", renderer::describe((*session)->contextInfo()).c_str());
 
-  PathRunOptions ro;
-  ro.output = args->get("output", "");
+  hlod::PathRunOptions ro;
   ro.fps = *fps;
   ro.maxFrames = *frames;
   ro.prefetchSeconds = args->has("prefetch") ? 1.0 : 0.0;
-  ro.plots = args->has("plots");
-  ro.progress = !quiet;
-  auto result = runPath(**session, *path, ro);
+  ro.mode = *mode;
+  FileOutputs outputs;
+  outputs.output = args->get("output", "");
+  outputs.plots = args->has("plots");
+  ProgressLine progress("render", quiet);
+  auto result = runPathToFiles(
+      **session, *path, ro, outputs,
+      [&](const hlod::FrameRecord& rec, std::uint64_t done, std::uint64_t total) {
+        char line[160];
+        std::snprintf(line, sizeof line, "frame %llu/%llu  %6.1f ms (target %.0f)  %9llu triangles",
+                      static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
+                      rec.gpuMs, rec.targetMs, static_cast<unsigned long long>(rec.triangles));
+        progress.update(static_cast<double>(done) / static_cast<double>(total), line);
+      });
+  progress.done();
   if (!result) {
     std::fprintf(stderr, "hlodr render: %s\n", result.message().c_str());
     return 1;
+  }
+  // A node that failed to load was drawn coarser all along: say so, and fail the run.
+  const hlod::LoaderCounters lc = (*session)->loaderCounters();
+  if (lc.loadErrors > 0) {
+    std::fprintf(stderr,
+                 "hlodr render: %llu node(s) of the store failed to load and were drawn coarser "
+                 "(last: %s); the store is damaged, rebuild it with `hlodr build`\n",
+                 static_cast<unsigned long long>(lc.loadErrors),
+                 (*session)->lastLoadError().c_str());
   }
   const auto& s = result->summary;
   std::printf(
@@ -204,14 +219,15 @@ int runRenderPath(const Argv& argv) {
       "frame time vs target %.1f ms: median |actual-target|/target %.3f, p95 %.3f, over target "
       "%.1f%%, over 1.25x %.1f%%, p99 actual/target %.2f, mean %.2f ms\n"
       "stalls %llu, toggles/frame %.2f, peak resident %.1f MB",
-      result->framesRendered, ro.output.string().c_str(), so.budgetMs, s.medianRelError,
-      s.p95RelError, 100.0 * s.shareOverTarget, 100.0 * s.shareOver125, s.p99OverTarget,
-      s.meanGpuMs, static_cast<unsigned long long>(s.totalStalls), s.togglesPerFrame,
+      static_cast<std::size_t>(result->run.framesRendered), outputs.output.string().c_str(),
+      so.budgetMs, s.medianRelError, s.p95RelError, 100.0 * s.shareOverTarget,
+      100.0 * s.shareOver125, s.p99OverTarget, s.meanGpuMs,
+      static_cast<unsigned long long>(s.totalStalls), s.togglesPerFrame,
       s.peakResidentBytes / 1048576.0);
   if (s.capBytes > 0) std::printf(" of cap %.1f MB (%.2f)", s.capBytes / 1048576.0, s.peakOverCap);
   std::printf("\nstats: %s\n", result->statsJson.string().c_str());
   for (const auto& p : result->plots) std::printf("plot: %s\n", p.string().c_str());
-  return 0;
+  return lc.loadErrors > 0 ? 1 : 0;
 }
 
 }  // namespace service::cmd

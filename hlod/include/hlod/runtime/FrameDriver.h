@@ -1,0 +1,138 @@
+#pragma once
+// The frame loop of one viewing session, without GL (Lakhia III-C/D, Manocha 5.5). Its GPU side
+// is a NodeRenderer: renderer::GpuNodeRenderer on a real context, a simulated one in tests, so
+// that realtime and settled frames are tested with a simulated clock as the selectors are.
+//
+// A frame:
+//   1. drain the loader's events: an unloaded node loses its GPU copy at once (the resident set
+//      stays closed upwards: the loader unloads children first); a loaded one queues for upload;
+//   2. realtime: upload queued nodes under the per-frame upload budget (at least one a frame, so
+//      uploads always progress); what does not fit waits for the next frame;
+//   3. select the front against what is on the GPU, the uploads' time already spent
+//      (View::spentMs); settled: as if everything were resident;
+//   4. give the load priorities to the loader (and, with a look-ahead camera, the prefetch);
+//   5. settled: wait until that front is loaded and upload it (a stall when it was not loaded);
+//   6. draw the front near to far; frame time = this frame's uploads + the drawing through
+//      glFinish; the drawing alone goes to the selector's v_time feedback.
+// Realtime never waits for the loader: a node whose children are not on the GPU is drawn at its
+// own level. Settled frames do not depend on I/O timing (for videos and reference frames).
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "hlod/CameraPath.h"
+#include "hlod/FrameStats.h"
+#include "hlod/Loader.h"
+#include "hlod/Result.h"
+#include "hlod/Selector.h"
+
+namespace hlod {
+
+enum class FrameMode { Realtime, Settled };
+
+struct UploadReport {
+  double ms = 0.0;  // time of the uploads' GL work
+  std::uint32_t uploads = 0;
+  std::uint64_t bytes = 0;
+};
+
+struct PassTime {
+  std::string name;
+  double gpuMs = 0.0;
+};
+
+struct DrawReport {
+  double ms = 0.0;     // wall time of the frame's GL work through glFinish
+  double gpuMs = 0.0;  // the passes' timer queries summed
+  std::vector<PassTime> passes;
+  std::uint64_t triangles = 0;
+  std::uint64_t drawCalls = 0;
+};
+
+// The GPU side of a session: copies of the resident nodes, their upload queue, the drawing.
+class NodeRenderer {
+ public:
+  virtual ~NodeRenderer() = default;
+  // A payload finished loading: queue it for upload (in order: parents before children).
+  virtual void queueUpload(std::uint32_t node, std::shared_ptr<const LocalMesh> mesh) = 0;
+  // The loader dropped the node: free its GPU copy, or its queued upload.
+  virtual void evict(std::uint32_t node) = 0;
+  // Uploads queued nodes in order until budgetMs or budgetBytes (0: no byte limit) is spent, at
+  // least one. An upload that fails (the GL refused it) is an Error naming the node.
+  virtual Result<UploadReport> upload(double budgetMs, std::uint64_t budgetBytes) = 0;
+  virtual std::size_t pendingUploads() const = 0;
+  // The nodes that have a GPU copy: what a realtime frame may draw.
+  virtual const Residency& onGpu() const = 0;
+  // Draws the front, ordered near to far, as seen by the camera.
+  virtual Result<DrawReport> draw(const Camera& camera, std::span<const std::uint32_t> front) = 0;
+  // The last frame's pixels, RGBA8, row 0 at the top.
+  virtual Image readback() = 0;
+};
+
+struct FrameDriverOptions {
+  double uploadBudgetMs = 2.0;                     // realtime: per-frame upload time
+  std::uint64_t uploadBudgetBytes = 0;             // realtime: per-frame upload bytes; 0 = none
+  double prefetchWeight = 0.5;                     // prefetch priorities are scaled by this
+  std::chrono::milliseconds settleTimeout{60000};  // settled: longest wait for one frame
+  int width = 1280;
+  int height = 720;
+  std::size_t recentFrames = 600;  // records kept in recent(): a bounded ring for long sessions
+  // start() starts the loader's thread; tests leave it off and step the loader themselves.
+  bool loaderThread = true;
+};
+
+class FrameDriver {
+ public:
+  // The selector (and an optional second one with its own hysteresis state for look-ahead
+  // cameras) is owned; loader and renderer must outlive the driver.
+  FrameDriver(std::unique_ptr<Selector> selector, std::unique_ptr<Selector> prefetchSelector,
+              Loader& loader, NodeRenderer& renderer, const FrameDriverOptions& options);
+
+  // Loads hlod_0 and puts it on the GPU (unbudgeted: before the first frame), then draws it once
+  // from a camera that frames the model: first-use costs (shader JIT, texture residency) are
+  // not frame 0's. That draw measures this machine's ms per unit of cost, which the selectors
+  // start from (so a session's first frame is budget-bound, not drawn at an arbitrary v_time),
+  // unless a v_time is given: one measured before (another session of the same store).
+  Status start(double knownVTime = 0.0);
+
+  // One frame for `sample` (time = path time). lookahead: a camera further along a known path
+  // whose selection goes to the loader's prefetch (nullptr: none).
+  Result<FrameRecord> renderFrame(const CameraSample& sample, FrameMode mode,
+                                  const CameraSample* lookahead = nullptr);
+
+  Selector& selector() { return *selector_; }
+  const Selector& selector() const { return *selector_; }
+  Loader& loader() { return loader_; }
+  NodeRenderer& renderer() { return renderer_; }
+  const FrameDriverOptions& options() const { return options_; }
+  std::uint64_t framesRendered() const { return frames_; }
+  // The last options().recentFrames records, oldest first.
+  const std::deque<FrameRecord>& recent() const { return recent_; }
+  // The v_time start() measured (0 before start, or when it was given).
+  double measuredVTime() const { return measuredVTime_; }
+
+ private:
+  void drainLoader();
+
+  std::unique_ptr<Selector> selector_;
+  std::unique_ptr<Selector> prefetchSelector_;
+  Loader& loader_;
+  NodeRenderer& renderer_;
+  FrameDriverOptions options_;
+  Aabb bounds_;
+  std::uint64_t frames_ = 0;
+  double measuredVTime_ = 0.0;
+  std::deque<FrameRecord> recent_;
+};
+
+// The front of a selection ordered near to far from the camera (by distance to each node's box):
+// the depth test then rejects hidden fragments before they are shaded, which on a software
+// rasteriser is most of a street-level frame.
+std::vector<std::uint32_t> nearToFar(const Skeleton& skeleton, const glm::dvec3& eye,
+                                     std::span<const std::uint32_t> front);
+
+}  // namespace hlod

@@ -1,0 +1,200 @@
+// The render thread's side of Lakhia III-C/D (front selection with v_time feedback, the loading
+// thread fed with load priorities) and Manocha 5.5 (render while loading: nodes not yet on the
+// GPU are drawn at a coarser level, never waited for). See hlod/runtime/FrameDriver.h.
+#include "hlod/runtime/FrameDriver.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace hlod {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> nearToFar(const Skeleton& skeleton, const glm::dvec3& eye,
+                                     std::span<const std::uint32_t> front) {
+  std::vector<std::pair<double, std::uint32_t>> ordered;
+  ordered.reserve(front.size());
+  for (std::uint32_t n : front) {
+    assert(n < skeleton.nodes.size());
+    const Aabb& b = skeleton.nodes[n].bounds;
+    const glm::dvec3 d = glm::clamp(eye, b.min, b.max) - eye;
+    ordered.emplace_back(glm::dot(d, d), n);
+  }
+  std::stable_sort(ordered.begin(), ordered.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::uint32_t> out;
+  out.reserve(ordered.size());
+  for (const auto& [d2, n] : ordered) out.push_back(n);
+  return out;
+}
+
+FrameDriver::FrameDriver(std::unique_ptr<Selector> selector,
+                         std::unique_ptr<Selector> prefetchSelector, Loader& loader,
+                         NodeRenderer& renderer, const FrameDriverOptions& options)
+    : selector_(std::move(selector)),
+      prefetchSelector_(std::move(prefetchSelector)),
+      loader_(loader),
+      renderer_(renderer),
+      options_(options) {
+  assert(selector_);
+  assert(options_.width > 0 && options_.height > 0);
+  const Skeleton& skel = selector_->skeleton();
+  for (std::uint32_t r : skel.roots) bounds_.extend(skel.nodes[r].bounds);
+}
+
+void FrameDriver::drainLoader() {
+  for (auto& e : loader_.drainEvents()) {
+    if (e.kind == LoaderEvent::Kind::Loaded) {
+      if (e.mesh) renderer_.queueUpload(e.node, std::move(e.mesh));
+    } else {
+      renderer_.evict(e.node);
+    }
+  }
+}
+
+Status FrameDriver::start(double knownVTime) {
+  if (auto roots = loader_.loadRoots(); !roots) return roots.error();
+  // hlod_0 is what everything falls back to: on the GPU before the first frame, unbudgeted.
+  drainLoader();
+  if (auto u = renderer_.upload(1e300, 0); !u) return u.error();
+  while (renderer_.pendingUploads() > 0)
+    if (auto u = renderer_.upload(1e300, 0); !u) return u.error();
+
+  const Skeleton& skel = selector_->skeleton();
+  if (!bounds_.empty()) {
+    Camera cam;
+    const glm::dvec3 c = bounds_.centre();
+    const double d = std::max(glm::length(bounds_.size()), 1e-3);
+    cam.position = c + glm::dvec3(0.0, -d, d);
+    cam.target = c;
+    cam.up = {0.0, 0.0, 1.0};
+    cam.fovY = 60.0;
+    cam.aspect = static_cast<double>(options_.width) / options_.height;
+    cam.nearPlane = d * 1e-3;
+    cam.farPlane = d * 4.0;
+    const std::vector<std::uint32_t> front = nearToFar(skel, cam.position, skel.roots);
+    // The first draw pays the first-use costs; the second one is this machine's speed.
+    auto warm = renderer_.draw(cam, front);
+    if (!warm) return warm.error();
+    auto timed = renderer_.draw(cam, front);
+    if (!timed) return timed.error();
+    double cost = 0.0;
+    for (std::uint32_t r : skel.roots)
+      cost += std::max(skel.nodes[r].cost, selector_->params().lakhia.c_minCost);
+    if (timed->ms > 0.0 && cost > 0.0) measuredVTime_ = timed->ms / cost;
+  }
+  const double v = knownVTime > 0.0 ? knownVTime : measuredVTime_;
+  if (v > 0.0 && std::isfinite(v)) {
+    selector_->setVTime(v);
+    if (prefetchSelector_) prefetchSelector_->setVTime(v);
+  }
+  if (options_.loaderThread) loader_.start();
+  return Ok{};
+}
+
+Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMode mode,
+                                             const CameraSample* lookahead) {
+  const auto frameStart = Clock::now();
+  const bool settled = mode == FrameMode::Settled;
+  FrameRecord rec;
+  double waitMs = 0.0;
+
+  drainLoader();
+  if (!settled) {
+    auto u = renderer_.upload(options_.uploadBudgetMs, options_.uploadBudgetBytes);
+    if (!u) return u.error();
+    rec.uploadMs = u->ms;
+    rec.uploads = u->uploads;
+    rec.uploadBytes = u->bytes;
+  }
+
+  View view{sample.camera, sample.velocity, options_.width, options_.height};
+  view.camera.aspect = static_cast<double>(options_.width) / options_.height;
+  // This frame's uploads are done: the drawing gets the rest of the budget.
+  view.spentMs = rec.uploadMs;
+  const auto selectStart = Clock::now();
+  // Settled: select as if everything were resident; that front is then loaded before drawing.
+  const AllResident allResident;
+  Selection sel = selector_->select(
+      view, settled ? static_cast<const Residency&>(allResident) : renderer_.onGpu());
+  rec.selectorMs = msSince(selectStart);
+  loader_.setWanted(sel.loadPriorities);
+
+  // Known-path prefetch: the selection for a camera further along the path, at lower priority.
+  if (lookahead && prefetchSelector_) {
+    View ahead{lookahead->camera, lookahead->velocity, options_.width, options_.height};
+    ahead.camera.aspect = view.camera.aspect;
+    prefetchSelector_->setVTime(selector_->vTime());
+    Selection future = prefetchSelector_->select(ahead, allResident);
+    for (auto& r : future.loadPriorities) r.priority *= options_.prefetchWeight;
+    loader_.prefetch(future.loadPriorities);
+  }
+
+  if (settled) {
+    auto onGpu = [&] {
+      return std::all_of(sel.front.begin(), sel.front.end(),
+                         [&](std::uint32_t n) { return renderer_.onGpu().isResident(n); });
+    };
+    if (!onGpu()) {
+      // Settled uploads are unbudgeted and, like the wait, not part of the frame time.
+      const auto waitStart = Clock::now();
+      const bool loaded = std::all_of(sel.front.begin(), sel.front.end(),
+                                      [&](std::uint32_t n) { return loader_.isResident(n); });
+      if (!loaded) {
+        // The renderer has to wait for the loader: a stall.
+        rec.stalls = 1;
+        loader_.waitUntilResident(sel.front, options_.settleTimeout);
+      }
+      drainLoader();
+      while (renderer_.pendingUploads() > 0) {
+        auto u = renderer_.upload(1e300, 0);
+        if (!u) return u.error();
+        rec.uploadMs += u->ms;
+        rec.uploads += u->uploads;
+        rec.uploadBytes += u->bytes;
+      }
+      if (!onGpu()) {
+        // Memory cap, a failed load or the timeout: the front does not fit. Draw what is
+        // there, coarser.
+        sel = selector_->select(view, renderer_.onGpu());
+        loader_.setWanted(sel.loadPriorities);
+      }
+      waitMs = msSince(waitStart);
+    }
+  }
+
+  const std::vector<std::uint32_t> ordered =
+      nearToFar(selector_->skeleton(), view.camera.position, sel.front);
+  auto drawn = renderer_.draw(view.camera, ordered);
+  if (!drawn) return drawn.error();
+
+  // Frame time: this frame's uploads plus the GL work through glFinish (settled-mode uploads
+  // belong to the stall, not to the frame). v_time learns from the drawing alone.
+  selector_->feedback(drawn->ms);
+  rec.index = frames_++;
+  rec.time = sample.time;
+  fillFromSelection(rec, sel);
+  fillFromLoader(rec, loader_.counters());
+  rec.triangles = drawn->triangles;  // what was drawn (equal to the front's numTri sum)
+  rec.drawMs = drawn->ms;
+  rec.queryGpuMs = drawn->gpuMs;
+  rec.gpuMs = (settled ? 0.0 : rec.uploadMs) + drawn->ms;
+  rec.pendingUploads = static_cast<std::uint32_t>(renderer_.pendingUploads());
+  rec.cpuMs = msSince(frameStart) - waitMs;
+  if (options_.recentFrames > 0) {
+    if (recent_.size() >= options_.recentFrames) recent_.pop_front();
+    recent_.push_back(rec);
+  }
+  return rec;
+}
+
+}  // namespace hlod

@@ -1,0 +1,113 @@
+// A camera path run through a FrameDriver, frame by frame into sinks. See hlod/runtime/PathRun.h.
+#include "hlod/runtime/PathRun.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hlod/Plots.h"
+
+namespace hlod {
+
+namespace {
+
+// Frames at startTime + i / fps, i = 0 .. floor(duration * fps), computed before anything is
+// allocated (a path of 1e300 s is an Error here, not a size_t overflow).
+Result<std::uint64_t> frameCountOf(const CameraPath& path, double fps) {
+  const double n = std::floor(path.duration() * fps) + 1.0;
+  if (!std::isfinite(n) || n > 1e12)
+    return makeError("the path's " + std::to_string(path.duration()) + " s at " +
+                     std::to_string(fps) + " fps are too many frames");
+  return static_cast<std::uint64_t>(n);
+}
+
+}  // namespace
+
+Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
+                              const PathRunOptions& options, std::span<FrameSink* const> sinks,
+                              const std::atomic<bool>* cancel, const FrameCallback& onFrame) {
+  if (!(options.fps > 0.0) || options.fps > 1000.0) return makeError("fps must be in (0, 1000]");
+  auto all = frameCountOf(path, options.fps);
+  if (!all) return all.error();
+  PathRunResult result;
+  result.framesTotal = *all;
+  if (options.maxFrames >= 0)
+    result.framesTotal = std::min<std::uint64_t>(result.framesTotal, options.maxFrames);
+
+  const FrameDriverOptions& fo = driver.options();
+  const double aspect = static_cast<double>(fo.width) / fo.height;
+  const bool pixels =
+      std::any_of(sinks.begin(), sinks.end(), [](const FrameSink* s) { return s->wantsPixels(); });
+  // Time from the frame index, not accumulated: frame i of a 24 h path is exactly i / fps.
+  auto sampleOf = [&](std::uint64_t i) {
+    const double t =
+        std::min(path.startTime() + static_cast<double>(i) / options.fps, path.endTime());
+    CameraSample s = path.sample(t, aspect);
+    s.time = t;
+    return s;
+  };
+  const std::uint64_t ahead =
+      options.prefetchSeconds > 0.0
+          ? static_cast<std::uint64_t>(std::llround(options.prefetchSeconds * options.fps))
+          : 0;
+
+  Status failure = Ok{};
+  for (std::uint64_t i = 0; i < result.framesTotal; ++i) {
+    if (cancel && cancel->load()) {
+      result.cancelled = true;
+      break;
+    }
+    const CameraSample sample = sampleOf(i);
+    CameraSample look;
+    if (ahead > 0) look = sampleOf(std::min(i + ahead, *all - 1));
+    auto rec = driver.renderFrame(sample, options.mode, ahead > 0 ? &look : nullptr);
+    if (!rec) {
+      failure = makeError("frame " + std::to_string(i) + ": " + rec.message());
+      break;
+    }
+    Image image;
+    if (pixels) image = driver.renderer().readback();
+    for (FrameSink* sink : sinks) {
+      const Image* mine = sink->wantsPixels() ? &image : nullptr;
+      if (auto s = sink->onFrame(*rec, mine); !s && failure) failure = s;
+    }
+    if (!failure) break;
+    ++result.framesRendered;
+    if (onFrame) onFrame(*rec, result.framesRendered, result.framesTotal);
+  }
+  for (FrameSink* sink : sinks) {
+    if (auto s = sink->finish(); !s && failure) failure = s;
+  }
+  if (!failure) return failure.error();
+  return result;
+}
+
+StatsSink::StatsSink(std::string jsonPath, std::string csvPath, std::string plotPrefix,
+                     std::string extra)
+    : jsonPath_(std::move(jsonPath)),
+      csvPath_(std::move(csvPath)),
+      plotPrefix_(std::move(plotPrefix)),
+      extra_(std::move(extra)) {}
+
+Status StatsSink::onFrame(const FrameRecord& record, const Image*) {
+  frames_.push_back(record);
+  return Ok{};
+}
+
+std::vector<std::string> StatsSink::plotPaths() const {
+  if (plotPrefix_.empty()) return {};
+  return {plotPrefix_ + "levels.svg", plotPrefix_ + "toggles.svg", plotPrefix_ + "frametime.svg"};
+}
+
+Status StatsSink::finish() {
+  if (auto s = writeStatsJson(jsonPath_, frames_, summarize(frames_), extra_); !s) return s;
+  if (auto s = writeStatsCsv(csvPath_, frames_); !s) return s;
+  if (plotPrefix_.empty()) return Ok{};
+  const std::vector<std::string> paths = plotPaths();
+  const std::string svgs[] = {levelsSvg(frames_), togglesSvg(frames_), frameTimeSvg(frames_)};
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    if (auto s = writeSvg(paths[i], svgs[i]); !s) return s;
+  }
+  return Ok{};
+}
+
+}  // namespace hlod

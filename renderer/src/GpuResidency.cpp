@@ -1,0 +1,59 @@
+#include "renderer/GpuResidency.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace renderer {
+
+std::uint64_t uploadBytesOf(const hlod::LocalMesh& m) {
+  std::uint64_t b = m.positions.size() * 12 + m.normals.size() * 12 + m.texCoords.size() * 8 +
+                    m.indices.size() * 4;
+  if (m.texture) b += static_cast<std::uint64_t>(m.texture->pixels.size());
+  return b;
+}
+
+void GpuResidency::queue(std::uint32_t node, std::shared_ptr<const hlod::LocalMesh> mesh) {
+  pending_.emplace_back(node, std::move(mesh));
+}
+
+void GpuResidency::evict(std::uint32_t node) {
+  if (auto it = gpu_.find(node); it != gpu_.end()) {
+    gpuBytes_ -= it->second.gpuBytes();
+    gpu_.erase(it);
+  }
+  onGpu_.set(node, false);
+  std::erase_if(pending_, [&](const auto& p) { return p.first == node; });
+}
+
+const GpuMesh* GpuResidency::find(std::uint32_t node) const {
+  auto it = gpu_.find(node);
+  return it == gpu_.end() ? nullptr : &it->second;
+}
+
+hlod::Result<hlod::UploadReport> GpuResidency::upload(double budgetMs, std::uint64_t budgetBytes) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto elapsedMs = [&] {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  };
+  hlod::UploadReport report;
+  while (!pending_.empty()) {
+    if (report.uploads > 0 &&
+        (elapsedMs() >= budgetMs || (budgetBytes > 0 && report.bytes >= budgetBytes)))
+      break;
+    auto [node, mesh] = std::move(pending_.front());
+    pending_.pop_front();
+    auto gpu = GpuMesh::upload(gl_, *mesh);
+    if (!gpu) return hlod::makeError("node " + std::to_string(node) + ": " + gpu.message());
+    if (auto old = gpu_.find(node); old != gpu_.end()) gpuBytes_ -= old->second.gpuBytes();
+    gpuBytes_ += gpu->gpuBytes();
+    gpu_.insert_or_assign(node, std::move(*gpu));
+    onGpu_.set(node, true);
+    ++report.uploads;
+    report.bytes += uploadBytesOf(*mesh);
+  }
+  report.ms = elapsedMs();
+  return report;
+}
+
+}  // namespace renderer

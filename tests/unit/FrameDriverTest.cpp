@@ -1,0 +1,315 @@
+// The frame loop without GL: a simulated GPU whose draw time is a fixed cost per frame plus a
+// cost per triangle (and whose uploads cost per byte), so that realtime and settled frames, the
+// upload budget and the cold start are tested with a simulated clock.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <deque>
+#include <memory>
+
+#include "RuntimeTestScene.h"
+#include "hlod/CameraPath.h"
+#include "hlod/Loader.h"
+#include "hlod/runtime/FrameDriver.h"
+#include "hlod/runtime/PathRun.h"
+
+using namespace hlod;
+
+namespace {
+
+class SimulatedRenderer final : public NodeRenderer {
+ public:
+  explicit SimulatedRenderer(std::size_t nodes) : onGpu_(nodes) {}
+
+  double msPerTriangle = 1e-4;  // 10 M triangles/s
+  double msPerFrame = 0.5;      // clear, state changes: not proportional to the front
+  double msPerUpload = 1.0;
+
+  void queueUpload(std::uint32_t node, std::shared_ptr<const LocalMesh> mesh) override {
+    pending_.emplace_back(node, std::move(mesh));
+  }
+  void evict(std::uint32_t node) override {
+    onGpu_.set(node, false);
+    std::erase_if(pending_, [&](const auto& p) { return p.first == node; });
+  }
+  Result<UploadReport> upload(double budgetMs, std::uint64_t) override {
+    UploadReport r;
+    while (!pending_.empty() && (r.uploads == 0 || r.ms < budgetMs)) {
+      onGpu_.set(pending_.front().first, true);
+      r.bytes += pending_.front().second->indices.size() * 4;
+      pending_.pop_front();
+      ++r.uploads;
+      r.ms += msPerUpload;
+    }
+    return r;
+  }
+  std::size_t pendingUploads() const override { return pending_.size(); }
+  const Residency& onGpu() const override { return onGpu_; }
+  Result<DrawReport> draw(const Camera&, std::span<const std::uint32_t> front) override {
+    DrawReport d;
+    for (std::uint32_t n : front) {
+      if (!onGpu_.isResident(n)) return makeError("drew a node that is not on the GPU");
+      d.triangles += triangles_.at(n);
+    }
+    d.ms = msPerFrame + msPerTriangle * static_cast<double>(d.triangles);
+    d.gpuMs = d.ms;
+    d.drawCalls = front.size();
+    lastFront.assign(front.begin(), front.end());
+    return d;
+  }
+  Image readback() override { return Image{1, 1, {0, 0, 0, 255}}; }
+
+  void setTriangles(const Skeleton& sk) {
+    for (const NodeInfo& n : sk.nodes) triangles_.push_back(n.numTri);
+  }
+  std::vector<std::uint32_t> lastFront;
+
+ private:
+  ResidencySet onGpu_;
+  std::deque<std::pair<std::uint32_t, std::shared_ptr<const LocalMesh>>> pending_;
+  std::vector<std::uint64_t> triangles_;
+};
+
+struct Rig {
+  explicit Rig(test::SyntheticCity city = {}, double budgetMs = 33.0)
+      : source(test::makeSyntheticCity(city)), renderer(source.skeleton().nodes.size()) {
+    renderer.setTriangles(source.skeleton());
+    loader = std::make_unique<Loader>(source);
+    SelectorParams p;
+    p.lakhia.c_targetTime = budgetMs;
+    FrameDriverOptions o;
+    o.width = 640;
+    o.height = 360;
+    o.loaderThread = false;  // the test steps the loader
+    driver = std::make_unique<FrameDriver>(std::move(*makeSelector("lakhia", source.skeleton(), p)),
+                                           std::move(*makeSelector("lakhia", source.skeleton(), p)),
+                                           *loader, renderer, o);
+  }
+  // A street-level camera looking along the first row of blocks.
+  CameraSample street() const {
+    CameraSample s;
+    s.camera.position = {-5.0, 46.0, 1.7};
+    s.camera.target = {100.0, 46.0, 5.0};
+    s.camera.up = {0.0, 0.0, 1.0};
+    return s;
+  }
+  CameraSample overview() const {
+    CameraSample s;
+    s.camera.position = {100.0, -150.0, 200.0};
+    s.camera.target = {100.0, 100.0, 0.0};
+    return s;
+  }
+  void loadAll() {
+    while (loader->step()) {
+    }
+  }
+
+  test::MemoryNodeSource source;
+  SimulatedRenderer renderer;
+  std::unique_ptr<Loader> loader;
+  std::unique_ptr<FrameDriver> driver;
+};
+
+// All leaves: 16 blocks * 81 * 2000 = 2.6 M triangles, 260 ms; hlod_0 32k triangles, 3 ms.
+test::SyntheticCity heavyCity() {
+  test::SyntheticCity city;
+  city.depth = 4;
+  city.triPerNode = 2000;
+  return city;
+}
+
+std::uint64_t deeperThanHlod0(const FrameRecord& r) {
+  std::uint64_t n = 0;
+  for (std::size_t l = 1; l < r.nodesPerLevel.size(); ++l) n += r.nodesPerLevel[l];
+  return n;
+}
+
+}  // namespace
+
+TEST(FrameDriver, StartPutsHlod0OnTheGpuAndMeasuresTheMachinesVTime) {
+  Rig rig;
+  ASSERT_TRUE(rig.driver->start().ok());
+  for (std::uint32_t r : rig.source.skeleton().roots)
+    EXPECT_TRUE(rig.renderer.onGpu().isResident(r));
+  // The calibration draw of all hlod_0: (msPerFrame + k * tris) / tris per unit of cost.
+  double tris = 0.0;
+  for (std::uint32_t r : rig.source.skeleton().roots) tris += rig.source.skeleton().nodes[r].numTri;
+  const double expected = (0.5 + 1e-4 * tris) / tris;
+  EXPECT_NEAR(rig.driver->measuredVTime(), expected, expected * 1e-9);
+  EXPECT_DOUBLE_EQ(rig.driver->selector().vTime(), expected);
+}
+
+TEST(FrameDriver, AGivenVTimeIsUsedInsteadOfTheMeasuredOne) {
+  Rig rig;
+  ASSERT_TRUE(rig.driver->start(3e-3).ok());
+  EXPECT_DOUBLE_EQ(rig.driver->selector().vTime(), 3e-3);
+}
+
+TEST(FrameDriver, RealtimeFramesNeverWaitAndDrawCoarserUntilChildrenAreOnTheGpu) {
+  Rig rig;
+  ASSERT_TRUE(rig.driver->start().ok());
+  // Nothing loaded below hlod_0 yet: the frame draws hlod_0, coarser, without a stall.
+  auto first = rig.driver->renderFrame(rig.street(), FrameMode::Realtime);
+  ASSERT_TRUE(first.ok()) << first.message();
+  EXPECT_EQ(first->stalls, 0u);
+  EXPECT_GT(first->coarserNotResident, 0u);
+  EXPECT_EQ(deeperThanHlod0(*first), 0u);
+  // The loader catches up; uploads come one budget at a time, and the front refines.
+  rig.loadAll();
+  FrameRecord last;
+  for (int i = 0; i < 60; ++i) {
+    auto r = rig.driver->renderFrame(rig.street(), FrameMode::Realtime);
+    ASSERT_TRUE(r.ok()) << r.message();
+    EXPECT_EQ(r->stalls, 0u);
+    EXPECT_LE(r->uploads, 3u);  // 1 ms each, a 2 ms budget: at most the one that crosses it
+    rig.loadAll();
+    last = *r;
+  }
+  EXPECT_GT(deeperThanHlod0(last), 0u);
+}
+
+TEST(FrameDriver, FrameTimeIsTheUploadsPlusTheDrawingAndTheDrawingGetsTheRest) {
+  Rig rig;
+  ASSERT_TRUE(rig.driver->start().ok());
+  ASSERT_TRUE(rig.driver->renderFrame(rig.street(), FrameMode::Realtime).ok());
+  rig.loadAll();  // what that frame asked for
+  auto r = rig.driver->renderFrame(rig.street(), FrameMode::Realtime);
+  ASSERT_TRUE(r.ok());
+  ASSERT_GT(r->uploads, 0u);
+  EXPECT_DOUBLE_EQ(r->uploadMs, 1.0 * r->uploads);
+  EXPECT_DOUBLE_EQ(r->gpuMs, r->uploadMs + r->drawMs);
+  // The selection's estimate includes what the uploads already spent.
+  EXPECT_GE(r->estimatedMs, r->uploadMs);
+}
+
+TEST(FrameDriver, SettledFramesLoadTheirFrontBeforeDrawingIt) {
+  Rig rig;
+  ASSERT_TRUE(rig.driver->start().ok());
+  auto r = rig.driver->renderFrame(rig.street(), FrameMode::Settled);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r->stalls, 1u);  // the front was not loaded: the frame waited for it
+  EXPECT_EQ(r->coarserNotResident, 0u);
+  EXPECT_GT(deeperThanHlod0(*r), 0u);
+  // Settled uploads are the wait's, not the frame's time.
+  EXPECT_DOUBLE_EQ(r->gpuMs, r->drawMs);
+  auto again = rig.driver->renderFrame(rig.street(), FrameMode::Settled);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->stalls, 0u);
+}
+
+TEST(FrameDriver, ANewSessionsFirstSettledFrameHoldsTheBudget) {
+  // The cold start: v_time measured at start(), not the paper's first guess of 1e-5 ms per
+  // triangle (with which the first frame selects every leaf).
+  for (double budget : {16.0, 33.0, 66.0}) {
+    Rig rig(heavyCity(), budget);
+    ASSERT_TRUE(rig.driver->start().ok());
+    auto r = rig.driver->renderFrame(rig.street(), FrameMode::Settled);
+    ASSERT_TRUE(r.ok()) << r.message();
+    EXPECT_LE(r->gpuMs, 1.25 * budget) << "budget " << budget;
+    EXPECT_GT(r->gpuMs, 0.4 * budget) << "budget " << budget;  // and spends it
+  }
+}
+
+TEST(FrameDriver, AfterATenfoldSlowdownTheFramesAreBackOnBudgetWithinThreeFrames) {
+  Rig rig(heavyCity(), 33.0);
+  ASSERT_TRUE(rig.driver->start().ok());
+  rig.loadAll();
+  for (int i = 0; i < 30; ++i) {
+    ASSERT_TRUE(rig.driver->renderFrame(rig.street(), FrameMode::Settled).ok());
+  }
+  auto settledMs = [&] {
+    auto r = rig.driver->renderFrame(rig.street(), FrameMode::Settled);
+    EXPECT_TRUE(r.ok());
+    return r->gpuMs;
+  };
+  EXPECT_LE(settledMs(), 1.25 * 33.0);
+  rig.renderer.msPerTriangle *= 10.0;  // another effect, a loaded machine
+  std::vector<double> after;
+  for (int i = 0; i < 6; ++i) after.push_back(settledMs());
+  EXPECT_GT(after[0], 2.0 * 33.0);  // the frame that shows the change
+  for (int i = 3; i < 6; ++i) EXPECT_LE(after[i], 1.25 * 33.0) << "frame " << i << " after";
+  rig.renderer.msPerTriangle /= 10.0;  // and back: the detail returns as quickly
+  std::vector<double> back;
+  for (int i = 0; i < 6; ++i) back.push_back(settledMs());
+  EXPECT_GT(back[5], 0.5 * 33.0);
+  EXPECT_LE(back[5], 1.25 * 33.0);
+}
+
+TEST(FrameDriver, PathRunHandsEveryFrameToEverySinkAndStopsOnCancel) {
+  Rig rig;
+  ASSERT_TRUE(rig.driver->start().ok());
+  auto path = makeOrbitPath(rig.source.skeleton(), 10.0);
+  ASSERT_TRUE(path.ok());
+  struct CountingSink final : FrameSink {
+    bool pixels = false;
+    int frames = 0, withPixels = 0, finishes = 0;
+    bool wantsPixels() const override { return pixels; }
+    Status onFrame(const FrameRecord&, const Image* p) override {
+      ++frames;
+      withPixels += p != nullptr;
+      return Ok{};
+    }
+    Status finish() override {
+      ++finishes;
+      return Ok{};
+    }
+  } a, b;
+  b.pixels = true;
+  FrameSink* sinks[] = {&a, &b};
+  std::atomic<bool> cancel{false};
+  PathRunOptions o;
+  o.fps = 10.0;
+  o.mode = FrameMode::Settled;
+  int seen = 0;
+  auto ran = runPath(*rig.driver, *path, o, sinks, &cancel,
+                     [&](const FrameRecord&, std::uint64_t done, std::uint64_t total) {
+                       ++seen;
+                       EXPECT_EQ(total, 101u);
+                       if (done == 7) cancel = true;
+                     });
+  ASSERT_TRUE(ran.ok()) << ran.message();
+  EXPECT_TRUE(ran->cancelled);
+  EXPECT_EQ(ran->framesRendered, 7u);
+  EXPECT_EQ(seen, 7);
+  EXPECT_EQ(a.frames, 7);
+  EXPECT_EQ(a.withPixels, 0);  // a readback only for the sink that wants pixels
+  EXPECT_EQ(b.withPixels, 7);
+  EXPECT_EQ(a.finishes, 1);
+  EXPECT_EQ(b.finishes, 1);
+}
+
+TEST(FrameDriver, ASinkErrorEndsTheRunAndEverySinkStillFinishes) {
+  Rig rig;
+  ASSERT_TRUE(rig.driver->start().ok());
+  auto path = makeOrbitPath(rig.source.skeleton(), 10.0);
+  ASSERT_TRUE(path.ok());
+  struct FailingSink final : FrameSink {
+    int finishes = 0;
+    Status onFrame(const FrameRecord& r, const Image*) override {
+      if (r.index == 3) return makeError("disk full");
+      return Ok{};
+    }
+    Status finish() override {
+      ++finishes;
+      return Ok{};
+    }
+  } failing, other;
+  FrameSink* sinks[] = {&failing, &other};
+  PathRunOptions o;
+  o.fps = 10.0;
+  auto ran = runPath(*rig.driver, *path, o, sinks);
+  ASSERT_FALSE(ran.ok());
+  EXPECT_NE(ran.message().find("disk full"), std::string::npos);
+  EXPECT_EQ(failing.finishes, 1);
+  EXPECT_EQ(other.finishes, 1);
+}
+
+TEST(FrameDriver, RecentRecordsAreABoundedRing) {
+  Rig rig;
+  ASSERT_TRUE(rig.driver->start().ok());
+  for (int i = 0; i < 700; ++i)
+    ASSERT_TRUE(rig.driver->renderFrame(rig.overview(), FrameMode::Realtime).ok());
+  EXPECT_EQ(rig.driver->recent().size(), 600u);
+  EXPECT_EQ(rig.driver->recent().front().index, 100u);
+  EXPECT_EQ(rig.driver->recent().back().index, 699u);
+}
