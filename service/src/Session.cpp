@@ -102,6 +102,7 @@ hlod::Status Session::init(renderer::GlContext& context) {
   lp.ioLatencyMs = options_.ioLatencyMs;
   lp.ioRequests = options_.ioRequests;
   lp.cache = options_.cache;
+  lp.cacheStore = options_.cacheStore;
   loader_ = std::make_unique<hlod::Loader>(*source_, lp);
 
   hlod::FrameDriverOptions fo;

@@ -72,5 +72,7 @@ Result<CameraPath> makeOrbitPath(const Skeleton& skeleton, double duration = 30.
                                  double fovY = 60.0);
 // "walk-fly", "drive" or "orbit".
 Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton);
+// The same keyframes with their times scaled about the start so that the path lasts `seconds`.
+Result<CameraPath> withDuration(const CameraPath& path, double seconds);
 
 }  // namespace hlod

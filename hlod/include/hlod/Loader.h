@@ -65,6 +65,7 @@ struct LoaderParams {
   // alive there is taken without a read; a load reserves its decoded bytes under the cache's cap
   // too, and waits while they do not fit.
   std::shared_ptr<NodeCache> cache;
+  std::uint32_t cacheStore = 0;  // this store's number in the cache's keys (NodeCache::key)
 };
 
 struct LoaderEvent {

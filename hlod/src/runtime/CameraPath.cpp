@@ -375,4 +375,13 @@ Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleto
                    "' (known: walk-fly, drive, orbit)");
 }
 
+Result<CameraPath> withDuration(const CameraPath& path, double seconds) {
+  if (!(seconds > 0.0) || !std::isfinite(seconds))
+    return makeError("a path's duration must be a positive number of seconds");
+  auto keys = path.keyframes();
+  const double t0 = path.startTime(), scale = seconds / path.duration();
+  for (auto& k : keys) k.time = t0 + (k.time - t0) * scale;
+  return CameraPath::fromKeyframes(std::move(keys));
+}
+
 }  // namespace hlod

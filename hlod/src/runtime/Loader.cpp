@@ -78,7 +78,7 @@ Status Loader::loadRoots() {
       return makeError("hlod_0 node " + std::to_string(r) + " out of range");
     if (residentFlag_[r].load()) continue;
     if (params_.cache) {
-      if (auto hit = params_.cache->find(r)) {
+      if (auto hit = params_.cache->find(NodeCache::key(params_.cacheStore, r))) {
         std::lock_guard lock(mutex_);
         ++counters_.loadsStarted;
         ++counters_.cacheHits;
@@ -380,7 +380,7 @@ bool Loader::step() {
     auto it = partials_.find(node);
     if (it == partials_.end() && params_.cache) {
       // Another session of this store has it decoded: no read, no decode.
-      if (auto hit = params_.cache->find(node)) {
+      if (auto hit = params_.cache->find(NodeCache::key(params_.cacheStore, node))) {
         if (current_ == node) current_ = kNoNode;
         ++counters_.loadsStarted;
         ++counters_.cacheHits;
@@ -492,7 +492,8 @@ void Loader::finishLocked(std::uint32_t node, Result<LocalMesh> mesh) {
   }
   // (hlod_0 nodes from loadRoots have no partial: they reserved in the cache themselves.)
   const std::uint64_t bytes = skeleton_.nodes[node].memoryBytes;
-  adoptLocked(node, params_.cache ? params_.cache->insert(node, std::move(mesh).value(), bytes)
+  adoptLocked(node, params_.cache ? params_.cache->insert(NodeCache::key(params_.cacheStore, node),
+                                                          std::move(mesh).value(), bytes)
                                   : std::make_shared<const LocalMesh>(std::move(mesh).value()));
 }
 

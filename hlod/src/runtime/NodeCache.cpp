@@ -18,9 +18,9 @@ NodeCache::NodeCache(std::uint64_t capBytes)
 
 NodeCache::~NodeCache() = default;
 
-std::shared_ptr<const LocalMesh> NodeCache::find(std::uint32_t node) {
+std::shared_ptr<const LocalMesh> NodeCache::find(std::uint64_t key) {
   std::lock_guard lock(mutex_);
-  auto it = entries_.find(node);
+  auto it = entries_.find(key);
   if (it == entries_.end()) return nullptr;
   std::shared_ptr<const LocalMesh> mesh = it->second.mesh.lock();
   if (!mesh) {
@@ -28,7 +28,7 @@ std::shared_ptr<const LocalMesh> NodeCache::find(std::uint32_t node) {
     return nullptr;
   }
   ++hits_;
-  keepLocked(node, it->second, mesh);
+  keepLocked(key, it->second, mesh);
   return mesh;
 }
 
@@ -48,18 +48,20 @@ void NodeCache::release(std::uint64_t bytes) {
   reserved_ -= bytes;
 }
 
-std::shared_ptr<const LocalMesh> NodeCache::insert(std::uint32_t node, LocalMesh mesh,
+std::shared_ptr<const LocalMesh> NodeCache::insert(std::uint64_t key, LocalMesh mesh,
                                                    std::uint64_t bytes) {
   std::lock_guard lock(mutex_);
   assert(bytes <= reserved_);
   reserved_ -= bytes;
-  Entry& e = entries_[node];
+  Entry& e = entries_[key];
   if (auto there = e.mesh.lock()) {
     // Another session decoded it first: share that copy, drop this one.
-    keepLocked(node, e, there);
+    keepLocked(key, e, there);
     return there;
   }
   shared_->aliveBytes += bytes;
+  ++inserts_;
+  insertedBytes_ += bytes;
   std::shared_ptr<const LocalMesh> fresh(new LocalMesh(std::move(mesh)),
                                          [shared = shared_, bytes](const LocalMesh* m) {
                                            shared->aliveBytes -= bytes;
@@ -67,15 +69,15 @@ std::shared_ptr<const LocalMesh> NodeCache::insert(std::uint32_t node, LocalMesh
                                          });
   e.mesh = fresh;
   e.bytes = bytes;
-  keepLocked(node, e, fresh);
+  keepLocked(key, e, fresh);
   return fresh;
 }
 
-void NodeCache::keepLocked(std::uint32_t node, Entry& e, std::shared_ptr<const LocalMesh> mesh) {
+void NodeCache::keepLocked(std::uint64_t key, Entry& e, std::shared_ptr<const LocalMesh> mesh) {
   // Without a cap nothing is kept beyond the sessions' own references: sharing only.
   if (capBytes_ == 0) return;
   if (e.kept) keptOrder_.erase(e.lru);
-  keptOrder_.push_front(node);
+  keptOrder_.push_front(key);
   e.lru = keptOrder_.begin();
   e.kept = std::move(mesh);
 }
@@ -105,6 +107,16 @@ std::uint64_t NodeCache::liveBytes() const {
 std::uint64_t NodeCache::hits() const {
   std::lock_guard lock(mutex_);
   return hits_;
+}
+
+std::uint64_t NodeCache::inserts() const {
+  std::lock_guard lock(mutex_);
+  return inserts_;
+}
+
+std::uint64_t NodeCache::insertedBytes() const {
+  std::lock_guard lock(mutex_);
+  return insertedBytes_;
 }
 
 }  // namespace hlod

@@ -45,7 +45,8 @@ struct SessionOptions {
   std::chrono::milliseconds settleTimeout{60000};  // settled frames: longest wait for one
   renderer::Effects effects;
   hlod::SelectorParams selectorParams;     // c_targetTime is replaced by budgetMs
-  std::shared_ptr<hlod::NodeCache> cache;  // shared with the other sessions of the store
+  std::shared_ptr<hlod::NodeCache> cache;  // shared with the other sessions of the server
+  std::uint32_t cacheStore = 0;            // the store's number in the cache
   double knownVTime = 0.0;                 // > 0: start from this v_time instead of measuring one
   std::size_t recentFrames = 600;          // FrameRecords kept for recent() (a bounded ring)
 };

@@ -25,6 +25,9 @@ int runInfo(const Argv& args);
 extern const char* const kCalibrateUsage;
 int runCalibrate(const Argv& args);
 
+extern const char* const kServeUsage;
+int runServe(const Argv& args);
+
 extern const char* const kPathUsage;
 int runPath(const Argv& args);
 // `hlodr render STORE --path PATH.json`: a camera path through a PathSession (PathCommand.cpp).

@@ -88,11 +88,7 @@ int runPath(const Argv& argv) {
     return 1;
   }
   if (*duration > 0.0) {
-    // Same keyframes, times scaled about the start.
-    auto keys = path->keyframes();
-    const double t0 = path->startTime(), scale = *duration / path->duration();
-    for (auto& k : keys) k.time = t0 + (k.time - t0) * scale;
-    auto scaled = hlod::CameraPath::fromKeyframes(std::move(keys));
+    auto scaled = hlod::withDuration(*path, *duration);
     if (!scaled) {
       std::fprintf(stderr, "hlodr path: %s\n", scaled.message().c_str());
       return 1;

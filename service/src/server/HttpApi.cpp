@@ -1,0 +1,362 @@
+// The HTTP API (docs/api.md): parse and validate on the HTTP thread, render on a worker, answer.
+#include "server/HttpApi.h"
+
+#include <cstdio>
+#include <fstream>
+
+namespace service::server {
+
+std::size_t ApiContext::queued() const {
+  std::size_t n = 0;
+  for (const RenderWorker* w : workers) n += w->queued();
+  return n;
+}
+
+namespace {
+
+using httplib::Request;
+using httplib::Response;
+
+void sendJson(Response& res, int status, const nlohmann::json& body) {
+  res.status = status;
+  res.set_content(body.dump(), "application/json");
+}
+
+void sendError(Response& res, const ApiError& e) {
+  res.status = e.status;
+  if (e.status == 503) res.set_header("Retry-After", "1");
+  res.set_content(nlohmann::json{{"error", {{"code", e.code}, {"message", e.message}}}}.dump(),
+                  "application/json");
+}
+
+bool jsonBody(const Request& req, Response& res) {
+  if (req.body.empty()) return true;
+  const std::string type = req.get_header_value("Content-Type");
+  if (type.rfind("application/json", 0) != 0) {
+    sendError(res, {415, "unsupported_media_type", "the body must be application/json"});
+    return false;
+  }
+  return true;
+}
+
+void sendFrame(Response& res, const FrameAnswer& a, double totalMs) {
+  const hlod::FrameRecord& r = a.record;
+  char timing[400];
+  std::snprintf(timing, sizeof timing,
+                "queue;dur=%.2f, select;dur=%.2f, upload;dur=%.2f, draw;dur=%.2f, "
+                "readback;dur=%.2f, encode;dur=%.2f, total;dur=%.2f",
+                a.queueMs, r.selectorMs, r.uploadMs, r.drawMs, a.readbackMs, a.encodeMs, totalMs);
+  res.set_header("Server-Timing", timing);
+  nlohmann::json stats = nlohmann::json::parse(hlod::frameJson(r));
+  if (!a.session.empty()) stats["session"] = a.session;
+  res.set_header("X-Hlodr-Stats", stats.dump());
+  res.set_header("Cache-Control", "no-store");
+  res.status = 200;
+  res.set_content(reinterpret_cast<const char*>(a.bytes.data()), a.bytes.size(),
+                  renderer::mimeType(a.format));
+}
+
+bool sendFile(Response& res, const std::filesystem::path& path, const char* type) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  res.status = 200;
+  res.set_content(std::move(bytes), type);
+  return true;
+}
+
+// Room in the render queue: past it, 503 with Retry-After (the client tries again).
+bool admit(ApiContext& api, Response& res) {
+  if (api.stopping) {
+    sendError(res, {503, "busy", "the server is shutting down"});
+    return false;
+  }
+  if (api.queued() >= api.queueLimit) {
+    api.metrics.add("hlodr_rejected_total", "reason=\"queue\"");
+    sendError(res, {503, "busy",
+                    "the render queue is full (" + std::to_string(api.queueLimit) +
+                        " requests); try again"});
+    return false;
+  }
+  return true;
+}
+
+// One slot of --max-streams, given back when the stream ends or its client goes away.
+struct StreamSlot {
+  explicit StreamSlot(std::atomic<std::size_t>& n) : count(n) {}
+  ~StreamSlot() { --count; }
+  std::atomic<std::size_t>& count;
+};
+
+}  // namespace
+
+void installRoutes(httplib::Server& http, ApiContext& api) {
+  http.Get("/healthz", [&](const Request&, Response& res) {
+    sendJson(res, 200,
+             {{"status", api.stopping ? "stopping" : "ok"},
+              {"workers", api.workers.size()},
+              {"scenes", api.scenes.all().size()}});
+  });
+
+  http.Get("/metrics", [&](const Request&, Response& res) {
+    res.set_content(api.metrics.text(), "text/plain; version=0.0.4; charset=utf-8");
+  });
+
+  http.Get("/api/scenes", [&](const Request&, Response& res) {
+    api.scenes.scan(api.log);  // stores built since the start appear
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& s : api.scenes.all()) list.push_back(s->summary());
+    sendJson(res, 200, {{"scenes", list}});
+  });
+
+  http.Get(R"(/api/scenes/([^/]+))", [&](const Request& req, Response& res) {
+    auto scene = api.scenes.find(req.matches[1]);
+    if (!scene) return sendError(res, notFound("no scene '" + std::string(req.matches[1]) + "'"));
+    sendJson(res, 200, scene->detail());
+  });
+
+  http.Post("/api/render", [&](const Request& req, Response& res) {
+    const auto start = Clock::now();
+    if (!jsonBody(req, res)) return;
+    std::set<std::string> fields = renderSettingFields();
+    fields.insert({"scene", "camera", "mode", "format", "quality"});
+    fields.erase("memoryMb");
+    auto in = JsonInput::parse(req.body, fields);
+    if (!in) return sendError(res, badRequest(in.message()));
+    auto id = in->string("scene", 64);
+    if (!id) return sendError(res, badRequest(id.message()));
+    auto scene = api.scenes.find(*id);
+    if (!scene) return sendError(res, notFound("no scene '" + *id + "'"));
+    auto settings = readRenderSettings(*in, api.maxSize, false);
+    if (!settings) return sendError(res, settings.error());
+    auto image = readImageRequest(*in);
+    if (!image) return sendError(res, image.error());
+    auto mode = in->choice("mode", "settled", {"settled", "realtime"});
+    if (!mode) return sendError(res, badRequest(mode.message()));
+    hlod::Camera camera = scene->defaultCamera(double(settings->width) / settings->height);
+    if (in->has("camera")) {
+      auto c = cameraFrom(in->json()["camera"], camera);
+      if (!c) return sendError(res, badRequest(c.message()));
+      camera = *c;
+    }
+    if (!admit(api, res)) return;
+    auto a = api.sessions.renderOnce(
+        scene, *settings, camera,
+        *mode == "realtime" ? hlod::FrameMode::Realtime : hlod::FrameMode::Settled, *image);
+    if (!a) return sendError(res, a.error());
+    sendFrame(res, *a, msSince(start));
+  });
+
+  http.Post("/api/sessions", [&](const Request& req, Response& res) {
+    if (!jsonBody(req, res)) return;
+    std::set<std::string> fields = renderSettingFields();
+    fields.insert("scene");
+    auto in = JsonInput::parse(req.body, fields);
+    if (!in) return sendError(res, badRequest(in.message()));
+    auto id = in->string("scene", 64);
+    if (!id) return sendError(res, badRequest(id.message()));
+    auto scene = api.scenes.find(*id);
+    if (!scene) return sendError(res, notFound("no scene '" + *id + "'"));
+    auto settings = readRenderSettings(*in, api.maxSize, true);
+    if (!settings) return sendError(res, settings.error());
+    if (!admit(api, res)) return;
+    auto made = api.sessions.create(scene, *settings);
+    if (!made) return sendError(res, made.error());
+    sendJson(res, 201, *made);
+  });
+
+  http.Post(R"(/api/sessions/([^/]+)/frame)", [&](const Request& req, Response& res) {
+    const auto start = Clock::now();
+    if (!jsonBody(req, res)) return;
+    auto in = JsonInput::parse(req.body, {"camera", "still", "format", "quality"});
+    if (!in) return sendError(res, badRequest(in.message()));
+    auto still = in->boolean("still", false);
+    if (!still) return sendError(res, badRequest(still.message()));
+    auto image = readImageRequest(*in);
+    if (!image) return sendError(res, image.error());
+    if (!admit(api, res)) return;
+    const nlohmann::json camera = in->has("camera") ? in->json()["camera"] : nlohmann::json();
+    auto a = api.sessions.frame(req.matches[1], camera, *still, *image);
+    if (!a) return sendError(res, a.error());
+    sendFrame(res, *a, msSince(start));
+  });
+
+  http.Get(R"(/api/sessions/([^/]+))", [&](const Request& req, Response& res) {
+    auto j = api.sessions.info(req.matches[1]);
+    if (!j) return sendError(res, j.error());
+    sendJson(res, 200, *j);
+  });
+
+  http.Delete(R"(/api/sessions/([^/]+))", [&](const Request& req, Response& res) {
+    if (!api.sessions.remove(req.matches[1]))
+      return sendError(res, notFound("no session " + std::string(req.matches[1])));
+    res.status = 204;
+  });
+
+  http.Post("/api/jobs", [&](const Request& req, Response& res) {
+    if (!jsonBody(req, res)) return;
+    std::set<std::string> fields = renderSettingFields();
+    fields.insert({"scene", "path", "fps", "mode", "video", "frames", "prefetch"});
+    auto in = JsonInput::parse(req.body, fields);
+    if (!in) return sendError(res, badRequest(in.message()));
+    auto id = in->string("scene", 64);
+    if (!id) return sendError(res, badRequest(id.message()));
+    auto scene = api.scenes.find(*id);
+    if (!scene) return sendError(res, notFound("no scene '" + *id + "'"));
+    auto render = readRenderSettings(*in, api.maxSize, true);
+    if (!render) return sendError(res, render.error());
+    JobSettings s;
+    s.render = *render;
+    auto fps = in->number("fps", 30.0, 1.0, 240.0);
+    auto mode = in->choice("mode", "realtime", {"realtime", "settled"});
+    auto video = in->boolean("video", false);
+    auto frames = in->integer("frames", -1, 1, 100000000);
+    auto prefetch = in->boolean("prefetch", false);
+    if (!fps) return sendError(res, badRequest(fps.message()));
+    if (!mode) return sendError(res, badRequest(mode.message()));
+    if (!video) return sendError(res, badRequest(video.message()));
+    if (!frames) return sendError(res, badRequest(frames.message()));
+    if (!prefetch) return sendError(res, badRequest(prefetch.message()));
+    s.fps = *fps;
+    s.mode = *mode == "settled" ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime;
+    s.video = *video;
+    s.frames = *frames;
+    s.prefetch = *prefetch;
+    if (!in->has("path")) return sendError(res, badRequest("path: is required"));
+    const nlohmann::json& path = in->json()["path"];
+    if (path.is_object() && path.contains("kind")) {
+      auto p = JsonInput::of(path, "path", {"kind", "duration"});
+      if (!p) return sendError(res, badRequest(p.message()));
+      auto kind = p->choice("kind", "", {"walk-fly", "drive", "orbit"});
+      auto duration = p->number("duration", 0.0, 1.0, 3600.0);
+      if (!kind) return sendError(res, badRequest(kind.message()));
+      if (!duration) return sendError(res, badRequest(duration.message()));
+      s.path = {{"kind", *kind}};
+      if (p->has("duration")) s.path["duration"] = *duration;
+    } else if (path.is_object() && path.contains("keyframes")) {
+      s.path = path;
+    } else {
+      return sendError(res, badRequest("path: must be {\"kind\": ...} or {\"keyframes\": [...]}"));
+    }
+    if (api.stopping) return sendError(res, {503, "busy", "the server is shutting down"});
+    auto job = api.jobs.submit(scene, std::move(s));
+    if (!job) return sendError(res, job.error());
+    sendJson(res, 202, *job);
+  });
+
+  http.Get("/api/jobs", [&](const Request&, Response& res) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& j : api.jobs.list()) list.push_back(j->json());
+    sendJson(res, 200, {{"jobs", list}});
+  });
+
+  http.Get(R"(/api/jobs/([^/]+))", [&](const Request& req, Response& res) {
+    auto job = api.jobs.find(req.matches[1]);
+    if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
+    sendJson(res, 200, job->json());
+  });
+
+  http.Delete(R"(/api/jobs/([^/]+))", [&](const Request& req, Response& res) {
+    auto r = api.jobs.cancelOrRemove(req.matches[1]);
+    if (!r) return sendError(res, r.error());
+    if (*r) {
+      auto job = api.jobs.find(req.matches[1]);
+      sendJson(res, 200, job ? job->json() : nlohmann::json::object());
+    } else {
+      res.status = 204;
+    }
+  });
+
+  http.Get(R"(/api/jobs/([^/]+)/frames/(\d{1,9}))", [&](const Request& req, Response& res) {
+    auto job = api.jobs.find(req.matches[1]);
+    if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
+    const std::uint64_t n = std::stoull(req.matches[2]);
+    const auto path = job->framePath(n);
+    if (path.empty() || !sendFile(res, path, "image/jpeg"))
+      return sendError(res, notFound("frame " + std::to_string(n) + " is not rendered"));
+  });
+
+  auto stats = [&](const Request& req, Response& res, bool csv) {
+    auto job = api.jobs.find(req.matches[1]);
+    if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
+    if (csv || req.get_param_value("format") == "csv") {
+      res.set_header("Content-Disposition", "attachment; filename=\"" + job->id + ".stats.csv\"");
+      res.set_content(job->statsCsv(), "text/csv");
+    } else {
+      res.set_content(job->statsJson(), "application/json");
+    }
+  };
+  http.Get(R"(/api/jobs/([^/]+)/stats)",
+           [stats](const Request& req, Response& res) { stats(req, res, false); });
+  http.Get(R"(/api/jobs/([^/]+)/stats\.csv)",
+           [stats](const Request& req, Response& res) { stats(req, res, true); });
+
+  http.Get(R"(/api/jobs/([^/]+)/video\.mp4)", [&](const Request& req, Response& res) {
+    auto job = api.jobs.find(req.matches[1]);
+    if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
+    if (!job->settings.video) return sendError(res, notFound("job " + job->id + " has no video"));
+    if (job->state() != JobState::Done)
+      return sendError(res, {409, "conflict",
+                             "job " + job->id + " is " + jobStateName(job->state()) +
+                                 ": its video exists once it is done"});
+    if (!sendFile(res, job->videoPath(), "video/mp4"))
+      return sendError(res, {500, "internal", "the video of job " + job->id + " is missing"});
+    res.set_header("Content-Disposition", "attachment; filename=\"" + job->id + ".mp4\"");
+  });
+
+  http.Get(R"(/api/jobs/([^/]+)/events)", [&](const Request& req, Response& res) {
+    auto job = api.jobs.find(req.matches[1]);
+    if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
+    if (++api.streams > api.maxStreams) {
+      --api.streams;
+      api.metrics.add("hlodr_rejected_total", "reason=\"streams\"");
+      return sendError(
+          res, {503, "busy",
+                "at most " + std::to_string(api.maxStreams) + " event streams at once; try again"});
+    }
+    auto slot = std::make_shared<StreamSlot>(api.streams);
+    struct Cursor {
+      std::size_t sent = 0;
+      JobState known = JobState::Queued;
+      bool first = true, ended = false;
+    };
+    auto cur = std::make_shared<Cursor>();
+    res.set_header("Cache-Control", "no-cache");
+    res.set_chunked_content_provider(
+        "text/event-stream",
+        [job, cur, slot](std::size_t, httplib::DataSink& sink) {
+          if (cur->ended) {
+            sink.done();
+            return true;
+          }
+          if (!sink.is_writable()) return false;  // the client went away: free the thread
+          // Waits at most a second, so that a client gone quiet is noticed soon.
+          auto ev = job->eventsFrom(cur->sent, cur->known, std::chrono::milliseconds(1000));
+          std::string out;
+          for (const auto& f : ev.frames) out += "event: frame\ndata: " + f + "\n\n";
+          cur->sent += ev.frames.size();
+          const nlohmann::json state = {{"state", jobStateName(ev.state)},
+                                        {"framesDone", ev.framesDone},
+                                        {"framesTotal", job->framesTotal}};
+          if (ev.changedState || cur->first) out += "event: state\ndata: " + state.dump() + "\n\n";
+          cur->first = false;
+          cur->known = ev.state;
+          const bool over = ev.state == JobState::Done || ev.state == JobState::Failed ||
+                            ev.state == JobState::Cancelled;
+          if (over && cur->sent >= ev.framesDone) {
+            nlohmann::json end = job->json();
+            out += "event: end\ndata: " +
+                   nlohmann::json{{"state", end["state"]}, {"summary", end["summary"]}}.dump() +
+                   "\n\n";
+            cur->ended = true;
+          }
+          if (out.empty()) out = ": keep-alive\n\n";  // a write to a gone client fails here
+          if (!sink.write(out.data(), out.size())) return false;
+          if (cur->ended) sink.done();
+          return true;
+        },
+        [slot](bool) {});
+  });
+}
+
+}  // namespace service::server

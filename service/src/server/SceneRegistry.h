@@ -1,0 +1,62 @@
+#pragma once
+// The scenes of the server: every node store NAME.hlod/ directly in the data folder is scene
+// NAME. Each store is opened once and shared by all sessions on it, with one decoded node cache
+// for the whole server. Scene ids are looked up here, never turned into paths: a client cannot
+// name anything outside the data folder.
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "hlod/Camera.h"
+#include "hlod/NodeStore.h"
+#include "hlod/runtime/NodeCache.h"
+
+namespace service::server {
+
+struct Scene {
+  std::string id;
+  std::filesystem::path path;
+  std::shared_ptr<const hlod::NodeStore> store;
+  std::uint32_t cacheStore = 0;  // its number in the shared NodeCache's keys
+  glm::dvec3 up{0.0, 0.0, 1.0};
+  hlod::Camera defaultCamera(double aspect) const;
+  nlohmann::json summary() const;  // for GET /api/scenes
+  nlohmann::json detail() const;   // for GET /api/scenes/{id}
+
+  // v_time of the last session at a frame size: a new session starts from it (the cold start).
+  double knownVTime(int width, int height) const;
+  void rememberVTime(int width, int height, double vTime);
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::pair<int, int>, double> vTimes_;
+};
+
+class SceneRegistry {
+ public:
+  SceneRegistry(std::filesystem::path dataDir, std::uint64_t cacheCapBytes);
+  // Opens the stores not opened yet; a broken one is skipped with a line to `log`.
+  void scan(const std::function<void(const std::string&)>& log);
+  std::shared_ptr<Scene> find(const std::string& id) const;
+  std::vector<std::shared_ptr<Scene>> all() const;
+  const std::shared_ptr<hlod::NodeCache>& cache() const { return cache_; }
+  const std::filesystem::path& dataDir() const { return dataDir_; }
+  // Scene ids: 1..64 of [A-Za-z0-9_.-], not starting with a dot.
+  static bool validId(const std::string& id);
+
+ private:
+  std::filesystem::path dataDir_;
+  std::shared_ptr<hlod::NodeCache> cache_;
+  mutable std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<Scene>> scenes_;
+  std::map<std::string, std::filesystem::file_time_type> broken_;  // skipped, by skeleton time
+  std::uint32_t nextCacheStore_ = 0;
+};
+
+}  // namespace service::server

@@ -1,0 +1,319 @@
+#include "server/Sessions.h"
+
+#include <algorithm>
+#include <future>
+#include <random>
+
+namespace service::server {
+
+std::string newId(char prefix) {
+  static std::mutex m;
+  static std::mt19937_64 rng(std::random_device{}());
+  std::lock_guard lock(m);
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "%c%08llx", prefix,
+                static_cast<unsigned long long>(rng() & 0xffffffffull));
+  return buf;
+}
+
+hlod::Result<std::unique_ptr<Session>> openSession(Scene& scene, const RenderSettings& settings,
+                                                   renderer::GlContext& context,
+                                                   const std::shared_ptr<hlod::NodeCache>& cache) {
+  SessionOptions o;
+  o.width = settings.width;
+  o.height = settings.height;
+  o.budgetMs = settings.budgetMs;
+  o.selector = settings.selector;
+  o.selectorParams.ssePixels = settings.ssePx;
+  o.memoryCapBytes = settings.memoryCapBytes;
+  o.cache = cache;
+  o.cacheStore = scene.cacheStore;
+  o.knownVTime = scene.knownVTime(settings.width, settings.height);
+  o.recentFrames = 300;
+  return Session::create(scene.store, o, context);
+}
+
+// A client's viewing session. `session` is touched only on its worker's thread.
+struct SessionManager::Live {
+  std::string id;
+  std::shared_ptr<Scene> scene;
+  RenderSettings settings;
+  std::size_t worker = 0;
+  std::unique_ptr<Session> session;
+  hlod::Camera camera;  // the last one drawn
+  Clock::time_point lastFrameAt{};
+  std::atomic<Clock::rep> lastUsed{0};
+  std::atomic<std::uint64_t> frames{0};
+  std::atomic<bool> ready{false};  // the worker made the session (HTTP threads read this)
+  std::atomic<bool> closed{false};
+};
+
+struct SessionManager::Warm {
+  std::string key;
+  std::shared_ptr<Scene> scene;
+  std::unique_ptr<Session> session;
+};
+
+namespace {
+
+// Runs fn on the worker and waits for its answer. A render that outlives the timeout answers
+// 503; its task still runs, and its result is dropped.
+template <class T, class Fn>
+ApiResult<T> runOn(RenderWorker& worker, std::chrono::seconds timeout, Fn fn) {
+  auto promise = std::make_shared<std::promise<ApiResult<T>>>();
+  auto future = promise->get_future();
+  const bool posted = worker.post([promise, fn = std::move(fn)](renderer::GlContext& gl) mutable {
+    try {
+      promise->set_value(fn(gl));
+    } catch (const std::exception& e) {
+      promise->set_value(ApiError{500, "internal", std::string("render failed: ") + e.what()});
+    }
+  });
+  if (!posted) return ApiError{503, "busy", "the server is shutting down"};
+  if (future.wait_for(timeout) != std::future_status::ready)
+    return ApiError{503, "busy",
+                    "the frame took longer than " + std::to_string(timeout.count()) + " s"};
+  return future.get();
+}
+
+}  // namespace
+
+SessionManager::SessionManager(std::vector<RenderWorker*> workers, SceneRegistry& scenes,
+                               Metrics& metrics, SessionLimits limits)
+    : workers_(std::move(workers)),
+      scenes_(scenes),
+      metrics_(metrics),
+      limits_(limits),
+      warm_(workers_.size()) {}
+
+SessionManager::~SessionManager() = default;
+
+std::size_t SessionManager::leastBusyWorker() const {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < workers_.size(); ++i)
+    if (workers_[i]->queued() < workers_[best]->queued()) best = i;
+  return best;
+}
+
+std::size_t SessionManager::count() const {
+  std::lock_guard lock(mutex_);
+  return live_.size();
+}
+
+ApiResult<nlohmann::json> SessionManager::create(const std::shared_ptr<Scene>& scene,
+                                                 const RenderSettings& settings) {
+  auto live = std::make_shared<Live>();
+  {
+    std::lock_guard lock(mutex_);
+    if (live_.size() >= limits_.maxSessions)
+      return ApiError{429, "too_many_sessions",
+                      "at most " + std::to_string(limits_.maxSessions) +
+                          " sessions at once; close one (DELETE /api/sessions/{id}) or wait for "
+                          "idle ones to expire"};
+    do live->id = newId('s');
+    while (live_.count(live->id));
+    live->scene = scene;
+    live->settings = settings;
+    live->worker = leastBusyWorker();
+    live->lastUsed = Clock::now().time_since_epoch().count();
+    live_[live->id] = live;  // reserves the place while the session is made
+  }
+  auto made = runOn<bool>(*workers_[live->worker], limits_.renderTimeout,
+                          [this, live](renderer::GlContext& gl) -> ApiResult<bool> {
+                            auto s = openSession(*live->scene, live->settings, gl, scenes_.cache());
+                            if (!s) return ApiError{500, "internal", s.message()};
+                            live->session = std::move(*s);
+                            live->camera = live->scene->defaultCamera(double(live->settings.width) /
+                                                                      live->settings.height);
+                            live->ready = true;
+                            return true;
+                          });
+  if (!made) {
+    std::lock_guard lock(mutex_);
+    live_.erase(live->id);
+    return made.error();
+  }
+  nlohmann::json j = live->settings.json();
+  j["id"] = live->id;
+  j["scene"] = scene->id;
+  j["idleTimeoutS"] = limits_.idleTimeout.count();
+  j["defaultCamera"] = cameraJson(live->camera);  // written before ready, read after
+  return j;
+}
+
+ApiResult<FrameAnswer> SessionManager::draw(Session& session, Scene& scene,
+                                            const hlod::CameraSample& sample, hlod::FrameMode mode,
+                                            const ImageRequest& image, Clock::time_point posted) {
+  FrameAnswer a;
+  a.queueMs = msSince(posted);
+  auto rec = session.renderFrame(sample, mode);
+  if (!rec) {
+    metrics_.add("hlodr_render_errors_total", "");
+    return ApiError{500, "internal", "render failed: " + rec.message()};
+  }
+  a.record = *rec;
+  scene.rememberVTime(session.options().width, session.options().height,
+                      session.selector().vTime());
+  auto t = Clock::now();
+  const hlod::Image pixels = session.readback();
+  a.readbackMs = msSince(t);
+  t = Clock::now();
+  auto bytes = renderer::encodeImage(pixels, image.format, image.quality);
+  if (!bytes) return ApiError{500, "internal", bytes.message()};
+  a.encodeMs = msSince(t);
+  a.bytes = std::move(*bytes);
+  a.format = image.format;
+  metrics_.observeFrame(rec->gpuMs * 1e-3);
+  return a;
+}
+
+ApiResult<FrameAnswer> SessionManager::frame(const std::string& id, const nlohmann::json& camera,
+                                             bool still, const ImageRequest& image) {
+  std::shared_ptr<Live> live;
+  {
+    std::lock_guard lock(mutex_);
+    auto it = live_.find(id);
+    if (it != live_.end() && it->second->ready) live = it->second;
+  }
+  if (!live) return notFound("no session " + id + " (closed or expired)");
+  live->lastUsed = Clock::now().time_since_epoch().count();
+  const auto posted = Clock::now();
+  auto answer = runOn<FrameAnswer>(
+      *workers_[live->worker], limits_.renderTimeout,
+      [this, live, camera, still, image, posted](renderer::GlContext&) -> ApiResult<FrameAnswer> {
+        if (live->closed || !live->session) return notFound("no session " + live->id);
+        hlod::CameraSample sample;
+        sample.camera = live->camera;
+        if (!camera.is_null()) {
+          auto c = cameraFrom(camera, live->camera);
+          if (!c) return badRequest(c.message());
+          sample.camera = *c;
+        }
+        // The camera's velocity from the last frame: nodes ahead gain priority (Lakhia III-C).
+        const auto now = Clock::now();
+        if (live->frames > 0) {
+          const double dt = std::chrono::duration<double>(now - live->lastFrameAt).count();
+          if (dt > 1e-3 && dt < 1.0)
+            sample.velocity = (sample.camera.position - live->camera.position) / dt;
+        }
+        auto a = draw(*live->session, *live->scene, sample,
+                      still ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime, image, posted);
+        if (a) {
+          live->camera = sample.camera;
+          live->lastFrameAt = now;
+          ++live->frames;
+          a->session = live->id;
+        }
+        return a;
+      });
+  live->lastUsed = Clock::now().time_since_epoch().count();
+  if (answer) metrics_.add("hlodr_frames_total", "kind=\"session\"");
+  return answer;
+}
+
+ApiResult<nlohmann::json> SessionManager::info(const std::string& id) {
+  std::shared_ptr<Live> live;
+  {
+    std::lock_guard lock(mutex_);
+    auto it = live_.find(id);
+    if (it != live_.end() && it->second->ready) live = it->second;
+  }
+  if (!live) return notFound("no session " + id + " (closed or expired)");
+  return runOn<nlohmann::json>(
+      *workers_[live->worker], limits_.renderTimeout,
+      [this, live](renderer::GlContext&) -> ApiResult<nlohmann::json> {
+        if (!live->session) return notFound("no session " + live->id);
+        nlohmann::json j = live->settings.json();
+        j["id"] = live->id;
+        j["scene"] = live->scene->id;
+        j["idleTimeoutS"] = limits_.idleTimeout.count();
+        j["frames"] = live->frames.load();
+        j["camera"] = cameraJson(live->camera);
+        nlohmann::json recent = nlohmann::json::array();
+        for (const auto& r : live->session->recent())
+          recent.push_back(nlohmann::json::parse(hlod::frameJson(r)));
+        j["recent"] = recent;
+        j["summary"] = nlohmann::json::parse(hlod::summaryJson(live->session->recentSummary()));
+        return j;
+      });
+}
+
+bool SessionManager::remove(const std::string& id) {
+  std::shared_ptr<Live> live;
+  {
+    std::lock_guard lock(mutex_);
+    auto it = live_.find(id);
+    if (it == live_.end() || !it->second->ready) return false;
+    live = it->second;
+    live_.erase(it);
+  }
+  live->closed = true;
+  workers_[live->worker]->post([live](renderer::GlContext&) { live->session.reset(); });
+  return true;
+}
+
+std::size_t SessionManager::expireIdle() {
+  const auto now = Clock::now().time_since_epoch().count();
+  const auto limit = std::chrono::duration_cast<Clock::duration>(limits_.idleTimeout).count();
+  std::vector<std::string> idle;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [id, live] : live_)
+      if (live->ready && now - live->lastUsed.load() > limit) idle.push_back(id);
+  }
+  for (const auto& id : idle) remove(id);
+  return idle.size();
+}
+
+ApiResult<FrameAnswer> SessionManager::renderOnce(const std::shared_ptr<Scene>& scene,
+                                                  const RenderSettings& settings,
+                                                  const hlod::Camera& camera, hlod::FrameMode mode,
+                                                  const ImageRequest& image) {
+  const std::size_t w = leastBusyWorker();
+  const auto posted = Clock::now();
+  const std::string key = scene->id + "/" + settings.key();
+  auto answer =
+      runOn<FrameAnswer>(*workers_[w], limits_.renderTimeout,
+                         [this, w, key, scene, settings, camera, mode, image,
+                          posted](renderer::GlContext& gl) -> ApiResult<FrameAnswer> {
+                           auto& warm = warm_[w];  // this worker's: only its thread touches it
+                           auto it = std::find_if(warm.begin(), warm.end(),
+                                                  [&](const auto& e) { return e->key == key; });
+                           std::shared_ptr<Warm> entry;
+                           if (it != warm.end()) {
+                             entry = *it;
+                             warm.erase(it);
+                           } else {
+                             auto s = openSession(*scene, settings, gl, scenes_.cache());
+                             if (!s) return ApiError{500, "internal", s.message()};
+                             entry = std::make_shared<Warm>();
+                             entry->key = key;
+                             entry->scene = scene;
+                             entry->session = std::move(*s);
+                           }
+                           warm.insert(warm.begin(), entry);  // most recently used first
+                           while (warm.size() > kWarmPerWorker)
+                             warm.pop_back();  // dies here, on this thread
+                           hlod::CameraSample sample;
+                           sample.camera = camera;
+                           return draw(*entry->session, *scene, sample, mode, image, posted);
+                         });
+  if (answer) metrics_.add("hlodr_frames_total", "kind=\"render\"");
+  return answer;
+}
+
+void SessionManager::shutdown() {
+  std::map<std::string, std::shared_ptr<Live>> all;
+  {
+    std::lock_guard lock(mutex_);
+    all.swap(live_);
+  }
+  for (auto& [id, live] : all) {
+    live->closed = true;
+    workers_[live->worker]->post([live](renderer::GlContext&) { live->session.reset(); });
+  }
+  for (std::size_t w = 0; w < workers_.size(); ++w)
+    workers_[w]->post([this, w](renderer::GlContext&) { warm_[w].clear(); });
+}
+
+}  // namespace service::server

@@ -1,0 +1,81 @@
+#pragma once
+// Viewing sessions of the server and frames on request. A session is bound to one render worker
+// at creation (the least busy) and lives on its thread: created, drawn and destroyed there. The
+// HTTP threads post tasks and wait for their answer with a timeout.
+//
+// Frames on request (POST /api/render) use warm sessions kept per worker for each scene and
+// render settings (at most kWarmPerWorker, least recently used go first): hlod_0 is not loaded
+// again for every request, and the selector's v_time stays calibrated.
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "server/ApiTypes.h"
+#include "server/Metrics.h"
+#include "server/RenderWorker.h"
+#include "server/SceneRegistry.h"
+#include "service/Session.h"
+
+namespace service::server {
+
+struct SessionLimits {
+  std::size_t maxSessions = 16;
+  std::chrono::seconds idleTimeout{120};
+  std::chrono::seconds renderTimeout{120};  // longest wait for one frame
+};
+
+class SessionManager {
+ public:
+  static constexpr std::size_t kWarmPerWorker = 4;
+
+  SessionManager(std::vector<RenderWorker*> workers, SceneRegistry& scenes, Metrics& metrics,
+                 SessionLimits limits);
+  ~SessionManager();
+
+  ApiResult<nlohmann::json> create(const std::shared_ptr<Scene>& scene,
+                                   const RenderSettings& settings);
+  // camera: the request's "camera" object, or null for the session's last camera.
+  ApiResult<FrameAnswer> frame(const std::string& id, const nlohmann::json& camera, bool still,
+                               const ImageRequest& image);
+  ApiResult<nlohmann::json> info(const std::string& id);
+  bool remove(const std::string& id);
+  ApiResult<FrameAnswer> renderOnce(const std::shared_ptr<Scene>& scene,
+                                    const RenderSettings& settings, const hlod::Camera& camera,
+                                    hlod::FrameMode mode, const ImageRequest& image);
+  // Closes sessions idle longer than the limit; returns how many.
+  std::size_t expireIdle();
+  std::size_t count() const;
+  // Destroys every session on its worker (before the workers stop).
+  void shutdown();
+
+ private:
+  struct Live;
+  struct Warm;
+  std::size_t leastBusyWorker() const;
+  ApiResult<FrameAnswer> draw(Session& session, Scene& scene, const hlod::CameraSample& sample,
+                              hlod::FrameMode mode, const ImageRequest& image,
+                              Clock::time_point posted);
+
+  std::vector<RenderWorker*> workers_;
+  SceneRegistry& scenes_;
+  Metrics& metrics_;
+  SessionLimits limits_;
+  mutable std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<Live>> live_;
+  std::vector<std::vector<std::shared_ptr<Warm>>> warm_;  // per worker; used on its thread only
+};
+
+// Makes a Session on `context` for a scene and settings (the v_time known from earlier sessions
+// of the same scene and size, the server's shared node cache).
+hlod::Result<std::unique_ptr<Session>> openSession(Scene& scene, const RenderSettings& settings,
+                                                   renderer::GlContext& context,
+                                                   const std::shared_ptr<hlod::NodeCache>& cache);
+
+// A random id with a prefix ("s" sessions, "j" jobs): 8 hex digits.
+std::string newId(char prefix);
+
+}  // namespace service::server
