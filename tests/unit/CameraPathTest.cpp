@@ -116,6 +116,62 @@ TEST(CameraPath, NanKeyframesAreRejected) {
   EXPECT_NE(p.message().find("finite"), std::string::npos);
 }
 
+TEST(CameraPath, AKeyframeTooFarInTimeOrSpaceIsRejected) {
+  auto keys = threeKeys();
+  keys[0].time = -1e308;
+  keys[2].time = 1e308;  // each finite, the duration is not
+  auto p = CameraPath::fromKeyframes(keys);
+  ASSERT_FALSE(p.ok());
+  EXPECT_NE(p.message().find("duration"), std::string::npos) << p.message();
+  keys = threeKeys();
+  keys[1].position.x = 1e308;
+  keys[2].position.x = -1e308;  // the change between them overflows
+  p = CameraPath::fromKeyframes(keys);
+  ASSERT_FALSE(p.ok());
+  EXPECT_NE(p.message().find("position changes too much"), std::string::npos) << p.message();
+}
+
+TEST(CameraPath, FrameCountCountsBothEndsAndRefusesTooManyFrames) {
+  auto path = CameraPath::fromKeyframes(threeKeys());
+  ASSERT_TRUE(path.ok());
+  ASSERT_TRUE(path->frameCount(30.0).ok());
+  EXPECT_EQ(*path->frameCount(30.0), 91u);
+  EXPECT_EQ(*path->frameCount(30.0, 91), 91u);
+  const auto over = path->frameCount(30.0, 90);
+  ASSERT_FALSE(over.ok());
+  EXPECT_NE(over.message().find("3 s at 30 fps gives 91 frames"), std::string::npos)
+      << over.message();
+  for (double bad : {0.0, -1.0, std::nan(""), HUGE_VAL}) {
+    EXPECT_FALSE(path->frameCount(bad).ok()) << bad;
+    EXPECT_TRUE(path->sampleAt(bad).empty()) << bad;
+  }
+  EXPECT_TRUE(path->sampleAt(30.0, 16.0 / 9.0, 90).empty());
+  // 0.1 s to 0.7 s at 10 fps: 0.6 * 10 is 5.999... in double and still counts its last frame.
+  auto keys = threeKeys();
+  keys.resize(2);
+  keys[0].time = 0.1;
+  keys[1].time = 0.7;
+  auto shortPath = CameraPath::fromKeyframes(keys);
+  ASSERT_TRUE(shortPath.ok());
+  EXPECT_EQ(*shortPath->frameCount(10.0), 7u);
+  EXPECT_EQ(shortPath->sampleFrame(6, 10.0).camera.position, keys[1].position);
+}
+
+TEST(CameraPath, SampleFrameIsTheSampleAtItsOwnTime) {
+  auto path = CameraPath::fromKeyframes(threeKeys());
+  ASSERT_TRUE(path.ok());
+  const auto all = path->sampleAt(24.0, 1.5);
+  ASSERT_EQ(all.size(), *path->frameCount(24.0));
+  for (std::uint64_t i = 0; i < all.size(); ++i) {
+    const CameraSample s = path->sampleFrame(i, 24.0, 1.5);
+    EXPECT_EQ(s.time, path->startTime() + static_cast<double>(i) / 24.0);
+    EXPECT_EQ(s.camera.position, all[i].camera.position);
+    EXPECT_EQ(s.camera.aspect, 1.5);
+  }
+  // Past the last frame: the end of the path.
+  EXPECT_EQ(path->sampleFrame(1000, 24.0).camera.position, threeKeys()[2].position);
+}
+
 // Distance from a point to the nearest block box (0 inside one).
 double clearance(const Skeleton& sk, const glm::dvec3& p) {
   double best = 1e300;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -32,6 +33,18 @@ std::vector<glm::dvec3> tangents(const std::vector<CameraKeyframe>& k,
   return m;
 }
 
+// True when every interval's change of `field` and its slope are finite with room to spare, so
+// that the tangents (at most 3 slopes) and the Hermite terms cannot overflow.
+bool slopesFinite(const std::vector<CameraKeyframe>& k, glm::dvec3 CameraKeyframe::*field) {
+  for (std::size_t i = 0; i + 1 < k.size(); ++i) {
+    const glm::dvec3 change = k[i + 1].*field - k[i].*field;
+    if (!finite(4.0 * change) || !finite(4.0 * change / (k[i + 1].time - k[i].time))) {
+      return false;
+    }
+  }
+  return true;
+}
+
 glm::dvec3 hermite(const glm::dvec3& p0, const glm::dvec3& m0, const glm::dvec3& p1,
                    const glm::dvec3& m1, double h, double s) {
   const double s2 = s * s, s3 = s2 * s;
@@ -58,6 +71,13 @@ Result<glm::dvec3> readVec3(const json& j, const char* key, std::size_t index) {
     out[i] = v[i].get<double>();
   }
   return out;
+}
+
+// A number for a message: up to 6 significant digits, 1e+300 style when large.
+std::string formatNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
 }
 
 json toJson(const glm::dvec3& v) {
@@ -131,6 +151,23 @@ Result<CameraPath> CameraPath::fromKeyframes(std::vector<CameraKeyframe> keyfram
       return makeError(where + ": times must be strictly increasing (" +
                        std::to_string(keyframes[i - 1].time) + " then " + std::to_string(k.time) +
                        ")");
+    }
+  }
+  const double duration = keyframes.back().time - keyframes.front().time;
+  if (!std::isfinite(duration)) {
+    return makeError("camera path: the duration from " + std::to_string(keyframes.front().time) +
+                     " s to " + std::to_string(keyframes.back().time) + " s is not finite");
+  }
+  struct Field {
+    glm::dvec3 CameraKeyframe::*member;
+    const char* name;
+  };
+  for (const Field f :
+       {Field{&CameraKeyframe::position, "position"}, Field{&CameraKeyframe::target, "target"},
+        Field{&CameraKeyframe::up, "up"}}) {
+    if (!slopesFinite(keyframes, f.member)) {
+      return makeError(std::string("camera path: the ") + f.name +
+                       " changes too much between two keyframes (its slope is not finite)");
     }
   }
   CameraPath p;
@@ -239,14 +276,35 @@ CameraSample CameraPath::sample(double t, double aspect, double nearPlane, doubl
   return out;
 }
 
-std::vector<CameraSample> CameraPath::sampleAt(double fps, double aspect) const {
-  std::vector<CameraSample> out;
-  if (!(fps > 0.0) || !std::isfinite(fps)) return out;
-  const auto frames = static_cast<std::size_t>(std::floor(duration() * fps + 1e-9)) + 1;
-  out.reserve(frames);
-  for (std::size_t f = 0; f < frames; ++f) {
-    out.push_back(sample(startTime() + static_cast<double>(f) / fps, aspect));
+Result<std::uint64_t> CameraPath::frameCount(double fps, std::uint64_t maxFrames) const {
+  if (!(fps > 0.0) || !std::isfinite(fps)) {
+    return makeError("camera path: the frame rate must be a positive number (got " +
+                     formatNumber(fps) + ")");
   }
+  // A product a rounding error below an integer (0.6 s at 10 fps is 5.999...) counts that frame;
+  // the frame then lies a rounding error past the end and samples the end.
+  const double intervals = duration() * fps;
+  const double last = std::floor(intervals * (1.0 + 1e-12));
+  // last < maxFrames, in double, also keeps the cast below in range.
+  if (!std::isfinite(last) || !(last < static_cast<double>(maxFrames))) {
+    return makeError("camera path: " + formatNumber(duration()) + " s at " + formatNumber(fps) +
+                     " fps gives " + formatNumber(last + 1.0) + " frames, more than the " +
+                     std::to_string(maxFrames) + " allowed");
+  }
+  return static_cast<std::uint64_t>(last) + 1;
+}
+
+CameraSample CameraPath::sampleFrame(std::uint64_t i, double fps, double aspect) const {
+  return sample(startTime() + static_cast<double>(i) / fps, aspect);
+}
+
+std::vector<CameraSample> CameraPath::sampleAt(double fps, double aspect,
+                                               std::uint64_t maxFrames) const {
+  std::vector<CameraSample> out;
+  const Result<std::uint64_t> frames = frameCount(fps, maxFrames);
+  if (!frames) return out;
+  out.reserve(*frames);
+  for (std::uint64_t i = 0; i < *frames; ++i) out.push_back(sampleFrame(i, fps, aspect));
   return out;
 }
 
