@@ -1,15 +1,154 @@
-// Camera paths over absurd time ranges (issue 14): sampling a path meant a vector of every frame:
-// 10^6 s at 30 fps was 4.2 GB before --frames applied, and a path from 0 to 1e300 s overflowed
-// the frame count into one frame.
+// Camera paths on the default city and on absurd time ranges (issues 13 and 14):
+// - `hlodr path --kind walk-fly` on the default city took the camera 13 m under the street
+//   around t = 13 s, where the walk meets the climb (the spline overshot its keyframes);
+// - sampling a path meant a vector of every frame: 10^6 s at 30 fps was 4.2 GB before --frames
+//   applied, and a path from 0 to 1e300 s overflowed the frame count into one frame.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "hlod/CameraPath.h"
+#include "hlod/City.h"
 
 namespace hlod {
 namespace {
+
+// The default city's hlod_0 boxes: a built store's roots are its blocks' bounds. Geometry only,
+// without textures, takes a fraction of a second.
+const Skeleton& defaultCity() {
+  static const Skeleton sk = [] {
+    Skeleton s;
+    CityOptions o;
+    o.textures = false;
+    for (int i = 0; i < kDefaultCityBlocks; ++i) {
+      NodeInfo n;
+      n.bounds = generateBlock(o, i).bounds();
+      n.block = static_cast<std::uint32_t>(i);
+      s.roots.push_back(static_cast<std::uint32_t>(s.nodes.size()));
+      s.nodes.push_back(n);
+    }
+    return s;
+  }();
+  return sk;
+}
+
+// How deep a point lies inside the blocks' boxes, horizontally: the distance to the nearest
+// side face of the deepest box holding it, 0 outside them all. The procedural city's boxes reach
+// the middle of their streets and touch there: a camera on a street's centre line is 0 deep, one
+// on the roadway less than 5.9 m (the narrowest street is 18 m with 3.06 m sidewalks).
+double depthInBlocks(const Skeleton& sk, const glm::dvec3& p) {
+  double deepest = 0.0;
+  for (std::uint32_t r : sk.roots) {
+    const Aabb& b = sk.nodes[r].bounds;
+    if (p.x > b.min.x && p.x < b.max.x && p.y > b.min.y && p.y < b.max.y && p.z > b.min.z &&
+        p.z < b.max.z) {
+      deepest =
+          std::max(deepest, std::min({p.x - b.min.x, b.max.x - p.x, p.y - b.min.y, b.max.y - p.y}));
+    }
+  }
+  return deepest;
+}
+
+double ground(const Skeleton& sk) {
+  double z = 1e300;
+  for (std::uint32_t r : sk.roots) z = std::min(z, sk.nodes[r].bounds.min.z);
+  return z;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+constexpr double kFps = 30.0;
+
+TEST(CameraPathHard, WalkFlyOnTheDefaultCityWalksAtEyeHeightAndNeverEntersABlock) {
+  const Skeleton& sk = defaultCity();
+  auto path = makeWalkFlyPath(sk);
+  ASSERT_TRUE(path.ok()) << path.message();
+  const double street = ground(sk);
+  double lowest = 1e300, lowestTarget = 1e300;
+  for (std::uint64_t i = 0; i < *path->frameCount(kFps); ++i) {
+    const CameraSample s = path->sampleFrame(i, kFps);
+    const glm::dvec3 p = s.camera.position;
+    // The walk (0-15 s) is at eye height, 1.7 m over the street, to 1 nm.
+    if (s.time <= 15.0) {
+      ASSERT_NEAR(p.z, street + 1.7, 1e-9) << "t=" << s.time;
+    }
+    // On the street's centre line, where the boxes touch, then over the roofs.
+    ASSERT_LE(depthInBlocks(sk, p), 1e-3)
+        << "t=" << s.time << " at " << p.x << " " << p.y << " " << p.z;
+    lowest = std::min(lowest, p.z);
+    lowestTarget = std::min(lowestTarget, s.camera.target.z);
+  }
+  // Nothing below the lowest keyframe, for the camera and for what it looks at (the street).
+  EXPECT_GE(lowest, street + 1.7 - 1e-9);
+  EXPECT_GE(lowestTarget, street - 1e-9);
+}
+
+TEST(CameraPathHard, WalkFlySpeedHasNoSpikes) {
+  auto path = makeWalkFlyPath(defaultCity());
+  ASSERT_TRUE(path.ok()) << path.message();
+  std::vector<double> walk, flight;
+  double previous = -1.0, maxSpeed = 0.0, maxJump = 0.0;
+  for (std::uint64_t i = 0; i < *path->frameCount(kFps); ++i) {
+    const CameraSample s = path->sampleFrame(i, kFps);
+    const double speed = glm::length(s.velocity);
+    (s.time <= 15.0 ? walk : flight).push_back(speed);
+    maxSpeed = std::max(maxSpeed, speed);
+    if (previous >= 0.0) maxJump = std::max(maxJump, std::abs(speed - previous));
+    previous = speed;
+  }
+  // The walk keeps a walking pace: 2 m/s, at most 1.5 times its median (1.28 measured; the old
+  // tangents reached 7 at its end as the climb pulled on it).
+  EXPECT_LE(*std::max_element(walk.begin(), walk.end()), 1.5 * median(walk));
+  EXPECT_NEAR(median(walk), 2.0, 0.1);
+  // The climb and the fly-over: at most twice the median speed (1.3 measured)...
+  EXPECT_LE(*std::max_element(flight.begin(), flight.end()), 2.0 * median(flight));
+  // ...and no jolt from one frame to the next: 2% of the top speed (0.9% measured, at the start
+  // of the climb).
+  EXPECT_LE(maxJump, 0.02 * maxSpeed);
+}
+
+TEST(CameraPathHard, DriveOnTheDefaultCityStaysOnTheStreetsAtAnEvenSpeed) {
+  const Skeleton& sk = defaultCity();
+  auto path = makeDrivePath(sk);
+  ASSERT_TRUE(path.ok()) << path.message();
+  const double street = ground(sk);
+  for (std::uint64_t i = 0; i < *path->frameCount(kFps); ++i) {
+    const CameraSample s = path->sampleFrame(i, kFps);
+    ASSERT_NEAR(s.camera.position.z, street + 1.5, 1e-9) << "t=" << s.time;
+    // The centre lines, and corners cut across the crossing's roadway (2.7 m deep measured).
+    ASSERT_LE(depthInBlocks(sk, s.camera.position), 4.0) << "t=" << s.time;
+    // 17 m/s on the straights; corners cut in 8 m take 0.87-1.2 times that.
+    const double speed = glm::length(s.velocity);
+    ASSERT_GE(speed, 0.8 * 17.0) << "t=" << s.time;
+    ASSERT_LE(speed, 1.25 * 17.0) << "t=" << s.time;
+  }
+}
+
+TEST(CameraPathHard, OrbitOnTheDefaultCityIsASmoothCircle) {
+  const Skeleton& sk = defaultCity();
+  auto path = makeOrbitPath(sk);
+  ASSERT_TRUE(path.ok()) << path.message();
+  const glm::dvec3 centre = path->keyframes().front().target;
+  const double radius = glm::length(path->keyframes().front().position - centre);
+  const double height = path->keyframes().front().position.z - centre.z;
+  const double circleSpeed =
+      2.0 * std::acos(-1.0) * std::sqrt(radius * radius - height * height) / path->duration();
+  for (std::uint64_t i = 0; i < *path->frameCount(kFps); ++i) {
+    const CameraSample s = path->sampleFrame(i, kFps);
+    ASSERT_NEAR(glm::length(s.camera.position - centre), radius, 1e-4 * radius) << s.time;
+    ASSERT_NEAR(s.camera.position.z - centre.z, height, 1e-9 * radius) << s.time;
+    ASSERT_NEAR(glm::length(s.velocity), circleSpeed, 0.005 * circleSpeed) << s.time;
+  }
+  // Round and round without a kink where the circle closes.
+  const glm::dvec3 leaving = path->sample(path->startTime()).velocity;
+  const glm::dvec3 arriving = path->sample(path->endTime()).velocity;
+  EXPECT_LT(glm::length(leaving - arriving), 1e-9 * circleSpeed);
+}
 
 CameraPath straightPath(double start, double duration, int keys, glm::dvec3 from,
                         glm::dvec3 velocity) {
