@@ -454,7 +454,10 @@ Result<CameraPath> makeDrivePath(const Skeleton& sk) {
   const double speed = 17.0;  // m/s, about 60 km/h
   const double duration = std::clamp(loop / speed, 20.0, 40.0);
   const double length = duration * speed;
-  // Keyframes every 10 m along the loop, cutting corners by `round` metres (a smooth turn).
+  // Keyframes every 10 m along the loop, turning each corner on a quarter circle of radius
+  // `round` metres. The arc has keyframes every 30 degrees, timed by their distance like the
+  // rest: its ends are where it is extreme in X and Y, so the monotone spline follows it at an
+  // even speed instead of cutting across.
   const double round = std::min(8.0, 0.25 * std::min(std::abs(x1 - x0), std::abs(y1 - y0)));
   std::vector<glm::dvec3> pts;
   for (int i = 0; i < 4; ++i) {
@@ -465,6 +468,15 @@ Result<CameraPath> makeDrivePath(const Skeleton& sk) {
     const double usable = std::max(0.0, len - 2.0 * round);
     const int segments = std::max(1, static_cast<int>(std::ceil(usable / 10.0)));
     for (int k = 0; k <= segments; ++k) pts.push_back(a + d * (round + usable * k / segments));
+    const glm::dvec3 next = corners[(i + 2) % 4] - bb;
+    if (round > 1e-9 && glm::length(next) > 1e-9) {
+      const glm::dvec3 d2 = glm::normalize(next);
+      const glm::dvec3 centre = bb - d * round + d2 * round;
+      for (double deg : {30.0, 60.0}) {
+        const double th = glm::radians(deg);
+        pts.push_back(centre + round * (-d2 * std::cos(th) + d * std::sin(th)));
+      }
+    }
   }
   std::vector<CameraKeyframe> keys;
   double t = 0.0, travelled = 0.0;
