@@ -1,11 +1,27 @@
 #pragma once
 // Camera paths: keyframes (time, position, target, up, fov) interpolated with C1 cubic Hermite
-// splines (Catmull-Rom tangents for non-uniform times) on position, target and up; fov linear.
-// Read from / written to JSON:
+// splines on position, target and up, per component, with Steffen's monotone tangents (M.
+// Steffen, "A simple method for monotonic interpolation in one dimension", A&A 239, 1990); fov
+// linear. Read from / written to JSON:
 //   {"keyframes": [{"time": 0.0, "position": [x,y,z], "target": [x,y,z], "up": [0,0,1],
 //                   "fov": 60.0}, ...]}
-// time in seconds, strictly increasing; positions in world units; fov = vertical degrees;
-// "up" and "fov" are optional (default +Z and 60). A bare array of keyframes is accepted too.
+// time in seconds, strictly increasing, finite, with a finite duration; positions in world units;
+// fov = vertical degrees; "up" and "fov" are optional (default +Z and 60). A bare array of
+// keyframes is accepted too.
+//
+// Interpolation. Between two keyframes each coordinate stays between its two keyframe values:
+// the spline never overshoots (a walk at eye height followed by a climb no longer dips under the
+// street first, as the Catmull-Rom tangents of earlier versions did), a coordinate equal at
+// two keyframes is constant between them, and a keyframe where a coordinate turns (a local
+// minimum or maximum) is a turning point of the curve. So the path stays inside the union of the
+// axis-aligned boxes spanned by consecutive keyframes, and the speed on a segment is at most
+// twice its chord length over its duration; the extreme points of a curve must be keyframes (the
+// orbit's are), since it does not bulge beyond them. Elsewhere (no turn, neighbouring slopes within
+// a factor of about 3) a keyframe's tangent is the slope of the parabola through it and its two
+// neighbours, which for evenly spaced keyframes is Catmull-Rom's. A field whose last keyframe
+// repeats its first (a loop, as the orbit) gets periodic tangents, C1 across the seam. The file
+// format is unchanged: old paths read as before and sample differently only where the limits
+// apply.
 //
 // Generators from a Skeleton (the hlod_0 boxes of the blocks; Z up, metres):
 //   "walk-fly": ground-level walk (1.7 m eye height) along a street, rising into a fly-over of
@@ -14,6 +30,7 @@
 //   "orbit":    any model: a circle around the bounds centre at a distance that frames it, 30 s.
 // Streets are the gaps between the blocks' boxes projected on X and on Y; a model without gaps
 // uses lines just outside its bounds.
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +42,13 @@
 #include "hlod/Skeleton.h"
 
 namespace hlod {
+
+// The most frames CameraPath::frameCount accepts by default: 10 million, 46 h at 60 fps or 3.9
+// days at 30 fps. A path run streams its frames, so this bounds the run's length, not memory.
+inline constexpr std::uint64_t kMaxPathFrames = 10'000'000;
+// The most frames CameraPath::sampleAt holds in memory: 2^20 (about 150 MB of samples, 9.7 h at
+// 30 fps).
+inline constexpr std::uint64_t kMaxSampledFrames = std::uint64_t{1} << 20;
 
 struct CameraKeyframe {
   double time = 0.0;
@@ -42,7 +66,8 @@ struct CameraSample {
 
 class CameraPath {
  public:
-  // At least 2 keyframes, strictly increasing times, all values finite, fov in (0, 180).
+  // At least 2 keyframes, strictly increasing finite times with a finite duration, all values
+  // finite and their slopes between keyframes finite, fov in (0, 180).
   static Result<CameraPath> fromKeyframes(std::vector<CameraKeyframe> keyframes);
   static Result<CameraPath> parse(std::string_view json);
   static Result<CameraPath> read(const std::string& path);
@@ -57,8 +82,20 @@ class CameraPath {
   // t is clamped to [startTime, endTime]. aspect, near and far go into the Camera as given.
   CameraSample sample(double t, double aspect = 16.0 / 9.0, double nearPlane = 0.1,
                       double farPlane = 100000.0) const;
-  // Frames at startTime + i / fps for i = 0 .. floor(duration * fps) (the last one <= endTime).
-  std::vector<CameraSample> sampleAt(double fps, double aspect = 16.0 / 9.0) const;
+
+  // Number of frames at startTime + i / fps, i = 0 .. floor(duration * fps) (a product a
+  // rounding error below an integer counts that frame). An Error when fps is not positive and
+  // finite, or when that count is not finite or exceeds maxFrames; the message says what the
+  // path's duration and fps give. Allocates nothing.
+  Result<std::uint64_t> frameCount(double fps, std::uint64_t maxFrames = kMaxPathFrames) const;
+  // Frame i of that sampling (fps as accepted by frameCount), computed from i directly: time =
+  // startTime + i / fps in double, no accumulated steps, so frame 5 million of a day-long path is
+  // where it should be. An i past the last frame gives the end of the path.
+  CameraSample sampleFrame(std::uint64_t i, double fps, double aspect = 16.0 / 9.0) const;
+  // All frames of that sampling in one vector, for short paths: empty when frameCount(fps,
+  // maxFrames) is an Error. Long paths go frame by frame through frameCount and sampleFrame.
+  std::vector<CameraSample> sampleAt(double fps, double aspect = 16.0 / 9.0,
+                                     std::uint64_t maxFrames = kMaxSampledFrames) const;
 
  private:
   CameraPath() = default;

@@ -1,7 +1,11 @@
+// Camera paths: monotone cubic Hermite interpolation of keyframes after M. Steffen, "A simple
+// method for monotonic interpolation in one dimension" (Astron. Astrophys. 239, 1990), and the
+// path generators of the Lakhia walk-fly (shared/seeds/lakhia-hlod.txt, Fig. 7), drive and orbit.
 #include "hlod/CameraPath.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -18,18 +22,80 @@ bool finite(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-// Catmull-Rom tangents for non-uniform knots: central differences over the neighbours' times,
-// one-sided at the ends. Continuous tangents at the knots make the Hermite spline C1.
-std::vector<glm::dvec3> tangents(const std::vector<CameraKeyframe>& k,
-                                 glm::dvec3 CameraKeyframe::*field) {
+// Steffen's tangent at an interior keyframe from the slopes dl (over an interval hl) on its left
+// and dr (over hr) on its right: the slope of the parabola through the three keyframes, limited
+// to twice the smaller slope, and 0 at a turn or beside a flat interval. Tangents of the slope's
+// sign and at most twice it at both ends of an interval keep the cubic monotone there, so it
+// stays between its two keyframe values (Steffen 1990).
+double steffenInterior(double dl, double dr, double hl, double hr) {
+  if (dl == 0.0 || dr == 0.0 || (dl > 0.0) != (dr > 0.0)) return 0.0;
+  const double w = hl / (hl + hr);
+  const double parabola = dl * (1.0 - w) + dr * w;
+  return std::copysign(2.0 * std::min({std::abs(dl), std::abs(dr), 0.5 * std::abs(parabola)}), dr);
+}
+
+// Steffen's tangent at an end keyframe, slope d0 over h0 next to it and d1 over h1 after that:
+// the end slope of the parabola through the three end keyframes, limited in the same way
+// (Steffen 1990). The same formula serves both ends (it is odd in the slopes).
+double steffenEnd(double d0, double d1, double h0, double h1) {
+  const double w = h0 / (h0 + h1);
+  const double parabola = d0 * (1.0 + w) - d1 * w;
+  if (d0 == 0.0 || parabola == 0.0 || (parabola > 0.0) != (d0 > 0.0)) return 0.0;
+  return std::abs(parabola) > 2.0 * std::abs(d0) ? 2.0 * d0 : parabola;
+}
+
+// A field whose last keyframe repeats its first, up to rounding (an orbit's angle 2 pi), is a
+// loop: its ends get the tangent of an interior keyframe between the last and the first
+// interval, so that the loop is C1 across the seam as everywhere else.
+bool isLoop(const std::vector<CameraKeyframe>& k, glm::dvec3 CameraKeyframe::*field) {
+  if (k.size() < 3) return false;
+  double extent = 0.0;
+  for (const CameraKeyframe& key : k) {
+    extent = std::max(extent, glm::length(key.*field - k.front().*field));
+  }
+  return extent > 0.0 && glm::length(k.back().*field - k.front().*field) <= 1e-9 * extent;
+}
+
+// Per-component monotone tangents (Steffen 1990) at every keyframe; C1 at the keyframes.
+std::vector<glm::dvec3> monotoneTangents(const std::vector<CameraKeyframe>& k,
+                                         glm::dvec3 CameraKeyframe::*field) {
   const std::size_t n = k.size();
+  std::vector<double> h(n - 1);
+  std::vector<glm::dvec3> d(n - 1);
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    h[i] = k[i + 1].time - k[i].time;
+    d[i] = (k[i + 1].*field - k[i].*field) / h[i];
+  }
   std::vector<glm::dvec3> m(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t a = i == 0 ? 0 : i - 1;
-    const std::size_t b = i + 1 == n ? n - 1 : i + 1;
-    m[i] = (k[b].*field - k[a].*field) / (k[b].time - k[a].time);
+  if (n == 2) {
+    m[0] = m[1] = d[0];  // a straight line
+    return m;
+  }
+  const bool loop = isLoop(k, field);
+  for (int c = 0; c < 3; ++c) {
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      m[i][c] = steffenInterior(d[i - 1][c], d[i][c], h[i - 1], h[i]);
+    }
+    if (loop) {
+      m[0][c] = m[n - 1][c] = steffenInterior(d[n - 2][c], d[0][c], h[n - 2], h[0]);
+    } else {
+      m[0][c] = steffenEnd(d[0][c], d[1][c], h[0], h[1]);
+      m[n - 1][c] = steffenEnd(d[n - 2][c], d[n - 3][c], h[n - 2], h[n - 3]);
+    }
   }
   return m;
+}
+
+// True when every interval's change of `field` and its slope are finite with room to spare, so
+// that the tangents (at most 3 slopes) and the Hermite terms cannot overflow.
+bool slopesFinite(const std::vector<CameraKeyframe>& k, glm::dvec3 CameraKeyframe::*field) {
+  for (std::size_t i = 0; i + 1 < k.size(); ++i) {
+    const glm::dvec3 change = k[i + 1].*field - k[i].*field;
+    if (!finite(4.0 * change) || !finite(4.0 * change / (k[i + 1].time - k[i].time))) {
+      return false;
+    }
+  }
+  return true;
 }
 
 glm::dvec3 hermite(const glm::dvec3& p0, const glm::dvec3& m0, const glm::dvec3& p1,
@@ -58,6 +124,13 @@ Result<glm::dvec3> readVec3(const json& j, const char* key, std::size_t index) {
     out[i] = v[i].get<double>();
   }
   return out;
+}
+
+// A number for a message: up to 6 significant digits, 1e+300 style when large.
+std::string formatNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
 }
 
 json toJson(const glm::dvec3& v) {
@@ -133,11 +206,28 @@ Result<CameraPath> CameraPath::fromKeyframes(std::vector<CameraKeyframe> keyfram
                        ")");
     }
   }
+  const double duration = keyframes.back().time - keyframes.front().time;
+  if (!std::isfinite(duration)) {
+    return makeError("camera path: the duration from " + std::to_string(keyframes.front().time) +
+                     " s to " + std::to_string(keyframes.back().time) + " s is not finite");
+  }
+  struct Field {
+    glm::dvec3 CameraKeyframe::*member;
+    const char* name;
+  };
+  for (const Field f :
+       {Field{&CameraKeyframe::position, "position"}, Field{&CameraKeyframe::target, "target"},
+        Field{&CameraKeyframe::up, "up"}}) {
+    if (!slopesFinite(keyframes, f.member)) {
+      return makeError(std::string("camera path: the ") + f.name +
+                       " changes too much between two keyframes (its slope is not finite)");
+    }
+  }
   CameraPath p;
   p.keys_ = std::move(keyframes);
-  p.posTangent_ = tangents(p.keys_, &CameraKeyframe::position);
-  p.targetTangent_ = tangents(p.keys_, &CameraKeyframe::target);
-  p.upTangent_ = tangents(p.keys_, &CameraKeyframe::up);
+  p.posTangent_ = monotoneTangents(p.keys_, &CameraKeyframe::position);
+  p.targetTangent_ = monotoneTangents(p.keys_, &CameraKeyframe::target);
+  p.upTangent_ = monotoneTangents(p.keys_, &CameraKeyframe::up);
   return p;
 }
 
@@ -239,14 +329,35 @@ CameraSample CameraPath::sample(double t, double aspect, double nearPlane, doubl
   return out;
 }
 
-std::vector<CameraSample> CameraPath::sampleAt(double fps, double aspect) const {
-  std::vector<CameraSample> out;
-  if (!(fps > 0.0) || !std::isfinite(fps)) return out;
-  const auto frames = static_cast<std::size_t>(std::floor(duration() * fps + 1e-9)) + 1;
-  out.reserve(frames);
-  for (std::size_t f = 0; f < frames; ++f) {
-    out.push_back(sample(startTime() + static_cast<double>(f) / fps, aspect));
+Result<std::uint64_t> CameraPath::frameCount(double fps, std::uint64_t maxFrames) const {
+  if (!(fps > 0.0) || !std::isfinite(fps)) {
+    return makeError("camera path: the frame rate must be a positive number (got " +
+                     formatNumber(fps) + ")");
   }
+  // A product a rounding error below an integer (0.6 s at 10 fps is 5.999...) counts that frame;
+  // the frame then lies a rounding error past the end and samples the end.
+  const double intervals = duration() * fps;
+  const double last = std::floor(intervals * (1.0 + 1e-12));
+  // last < maxFrames, in double, also keeps the cast below in range.
+  if (!std::isfinite(last) || !(last < static_cast<double>(maxFrames))) {
+    return makeError("camera path: " + formatNumber(duration()) + " s at " + formatNumber(fps) +
+                     " fps gives " + formatNumber(last + 1.0) + " frames, more than the " +
+                     std::to_string(maxFrames) + " allowed");
+  }
+  return static_cast<std::uint64_t>(last) + 1;
+}
+
+CameraSample CameraPath::sampleFrame(std::uint64_t i, double fps, double aspect) const {
+  return sample(startTime() + static_cast<double>(i) / fps, aspect);
+}
+
+std::vector<CameraSample> CameraPath::sampleAt(double fps, double aspect,
+                                               std::uint64_t maxFrames) const {
+  std::vector<CameraSample> out;
+  const Result<std::uint64_t> frames = frameCount(fps, maxFrames);
+  if (!frames) return out;
+  out.reserve(*frames);
+  for (std::uint64_t i = 0; i < *frames; ++i) out.push_back(sampleFrame(i, fps, aspect));
   return out;
 }
 
@@ -260,9 +371,13 @@ Result<CameraPath> makeOrbitPath(const Skeleton& sk, double duration, double fov
   const double dist = 1.1 * r / std::sin(glm::radians(std::clamp(fovY, 1.0, 170.0)) * 0.5);
   const double elevation = glm::radians(30.0);
   std::vector<CameraKeyframe> keys;
-  const int n = 16;
+  // Keyframes every 7.5 degrees, four of them at the circle's extremes in X and Y: the spline
+  // never passes beyond its keyframes' coordinates, so the extremes must be keyframes, and at
+  // this spacing the radius stays within 1e-5 and the speed within 0.3% of the circle's.
+  const int n = 48;
   for (int i = 0; i <= n; ++i) {
-    const double a = 2.0 * std::numbers::pi * i / n;
+    // The last keyframe repeats the first exactly (angle 0, not 2 pi): a loop, C1 at the seam.
+    const double a = 2.0 * std::numbers::pi * (i % n) / n;
     CameraKeyframe k;
     k.time = duration * i / n;
     k.position = c + dist * glm::dvec3(std::cos(elevation) * std::cos(a),
@@ -304,10 +419,16 @@ Result<CameraPath> makeWalkFlyPath(const Skeleton& sk) {
     key(t, {sx, y, eye}, {sx, y + 30.0, eye});
   }
   const double yw = y0 + walkSpeed * 15.0;
-  // 15-24 s: rise while moving on, the view tilting down to the model centre.
-  key(19.0, {sx, yw + 12.0, eye + 0.25 * (flyHeight - eye)}, {sx, yw + 60.0, b.min.z});
-  key(24.0, {sx, c.y - 0.35 * size.y, 0.8 * flyHeight + 0.2 * eye}, {c.x, c.y, b.min.z});
-  // 24-35 s: fly over the whole model.
+  // 15-30 s: rise while moving on, the view tilting down to the model centre. The heights follow
+  // an ease-in-out (smoothstep) from eye height at 15 s to the fly height at 30 s, so that the
+  // climb sets off gently from the walk instead of shooting up to a fixed share of the height.
+  const auto climb = [&](double t) {
+    const double u = (t - 15.0) / 15.0;
+    return eye + (flyHeight - eye) * u * u * (3.0 - 2.0 * u);
+  };
+  key(19.0, {sx, yw + 12.0, climb(19.0)}, {sx, yw + 60.0, b.min.z});
+  key(24.0, {sx, c.y - 0.35 * size.y, climb(24.0)}, {c.x, c.y, b.min.z});
+  // Then across the whole model at the fly height.
   key(30.0, {c.x + 0.2 * size.x, c.y, flyHeight}, {c.x, c.y + 0.1 * size.y, b.min.z});
   key(35.0, {c.x + 0.35 * size.x, c.y + 0.4 * size.y, flyHeight},
       {c.x, c.y + 0.2 * size.y, b.min.z});
@@ -333,7 +454,10 @@ Result<CameraPath> makeDrivePath(const Skeleton& sk) {
   const double speed = 17.0;  // m/s, about 60 km/h
   const double duration = std::clamp(loop / speed, 20.0, 40.0);
   const double length = duration * speed;
-  // Keyframes every 10 m along the loop, cutting corners by `round` metres (a smooth turn).
+  // Keyframes every 10 m along the loop, turning each corner on a quarter circle of radius
+  // `round` metres. The arc has keyframes every 30 degrees, timed by their distance like the
+  // rest: its ends are where it is extreme in X and Y, so the monotone spline follows it at an
+  // even speed instead of cutting across.
   const double round = std::min(8.0, 0.25 * std::min(std::abs(x1 - x0), std::abs(y1 - y0)));
   std::vector<glm::dvec3> pts;
   for (int i = 0; i < 4; ++i) {
@@ -344,6 +468,15 @@ Result<CameraPath> makeDrivePath(const Skeleton& sk) {
     const double usable = std::max(0.0, len - 2.0 * round);
     const int segments = std::max(1, static_cast<int>(std::ceil(usable / 10.0)));
     for (int k = 0; k <= segments; ++k) pts.push_back(a + d * (round + usable * k / segments));
+    const glm::dvec3 next = corners[(i + 2) % 4] - bb;
+    if (round > 1e-9 && glm::length(next) > 1e-9) {
+      const glm::dvec3 d2 = glm::normalize(next);
+      const glm::dvec3 centre = bb - d * round + d2 * round;
+      for (double deg : {30.0, 60.0}) {
+        const double th = glm::radians(deg);
+        pts.push_back(centre + round * (-d2 * std::cos(th) + d * std::sin(th)));
+      }
+    }
   }
   std::vector<CameraKeyframe> keys;
   double t = 0.0, travelled = 0.0;
