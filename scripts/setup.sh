@@ -10,6 +10,7 @@ packages=(
   libtinygltf-dev libstb-dev nlohmann-json3-dev libcpp-httplib-dev libdeflate-dev libturbojpeg0-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6 libosmesa6-dev
   ffmpeg
+  prometheus wrk
 )
 
 missing=()

@@ -8,25 +8,12 @@
 
 namespace hlod {
 
-namespace {
-
-// Frames at startTime + i / fps, i = 0 .. floor(duration * fps), computed before anything is
-// allocated (a path of 1e300 s is an Error here, not a size_t overflow).
-Result<std::uint64_t> frameCountOf(const CameraPath& path, double fps) {
-  const double n = std::floor(path.duration() * fps) + 1.0;
-  if (!std::isfinite(n) || n > 1e12)
-    return makeError("the path's " + std::to_string(path.duration()) + " s at " +
-                     std::to_string(fps) + " fps are too many frames");
-  return static_cast<std::uint64_t>(n);
-}
-
-}  // namespace
-
 Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
                               const PathRunOptions& options, std::span<FrameSink* const> sinks,
                               const std::atomic<bool>* cancel, const FrameCallback& onFrame) {
   if (!(options.fps > 0.0) || options.fps > 1000.0) return makeError("fps must be in (0, 1000]");
-  auto all = frameCountOf(path, options.fps);
+  // Counted before anything is allocated: a path of 1e300 s is an Error, not a size_t overflow.
+  auto all = path.frameCount(options.fps);
   if (!all) return all.error();
   PathRunResult result;
   result.framesTotal = *all;

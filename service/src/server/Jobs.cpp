@@ -175,8 +175,9 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
     path = hlod::CameraPath::parse(settings.path.dump());
   }
   if (!path) return badRequest("path: " + path.message());
-  const double frames = std::floor(path->duration() * settings.fps) + 1.0;
-  std::uint64_t total = std::isfinite(frames) && frames < 1e15 ? std::uint64_t(frames) : ~0ull;
+  auto count = path->frameCount(settings.fps);
+  if (!count) return badRequest("path: " + count.message());
+  std::uint64_t total = *count;
   if (settings.frames >= 0) total = std::min<std::uint64_t>(total, settings.frames);
   if (total > limits_.maxFrames)
     return badRequest("the path gives " + std::to_string(total) + " frames at " +

@@ -1,0 +1,586 @@
+// `hlodr serve` in-process on an ephemeral loopback port, driven by HTTP clients: every
+// endpoint, the bad-input cases of docs/api.md, concurrency and the limits, event streams
+// followed to the end and dropped mid-way.
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "hlod/City.h"
+#include "hlod/HlodBuilder.h"
+#include "service/Server.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+fs::path dataDir() {
+  static const fs::path dir =
+      fs::temp_directory_path() / ("hlodr_server_test_" + std::to_string(::getpid()));
+  return dir;
+}
+
+// A small city (2 blocks) built once for all tests.
+void makeScene() {
+  static bool made = false;
+  if (made) return;
+  made = true;
+  fs::remove_all(dataDir());
+  fs::create_directories(dataDir());
+  hlod::CityOptions c;
+  c.blocks = 2;
+  c.textureSize = 128;
+  ASSERT_TRUE(hlod::writeCity(dataDir() / "src" / "city", c, {}).ok());
+  ASSERT_TRUE(hlod::buildStoreFromCity(dataDir() / "src" / "city", dataDir() / "city.hlod",
+                                       hlod::BuildOptions{}, {})
+                  .ok());
+  // Not a store: a folder the scene scan must ignore, and a broken store it must skip.
+  fs::create_directories(dataDir() / "notes.hlod");
+  fs::create_directories(dataDir() / "broken.hlod");
+  std::ofstream(dataDir() / "broken.hlod" / "skeleton.bin") << "garbage";
+}
+
+class ServerTest : public ::testing::Test {
+ protected:
+  void start(service::ServerOptions o = {}) {
+    makeScene();
+    o.dataDir = dataDir();
+    o.port = 0;
+    o.workers = o.workers > 0 ? o.workers : 2;
+    o.accessLog = false;
+    o.jobsDir =
+        dataDir() /
+        ("jobs_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    auto s = service::Server::create(o, [this](const std::string& line) {
+      std::lock_guard lock(logMutex);
+      log += line + "\n";
+    });
+    ASSERT_TRUE(s.ok()) << s.message();
+    server = std::move(*s);
+    auto p = server->bind();
+    ASSERT_TRUE(p.ok()) << p.message();
+    port = *p;
+    thread = std::thread([this] { server->run(); });
+  }
+  void TearDown() override {
+    if (server) server->stop();
+    if (thread.joinable()) thread.join();
+    server.reset();
+  }
+  httplib::Client client() const {
+    httplib::Client c("127.0.0.1", port);
+    c.set_read_timeout(120, 0);
+    return c;
+  }
+  httplib::Result post(const std::string& path, const json& body) const {
+    return client().Post(path.c_str(), body.dump(), "application/json");
+  }
+  static json parse(const httplib::Result& r) { return json::parse(r->body, nullptr, false); }
+  static std::string errorCode(const httplib::Result& r) {
+    const json j = parse(r);
+    return j.is_object() && j.contains("error") ? j["error"]["code"].get<std::string>() : "";
+  }
+  static std::string errorMessage(const httplib::Result& r) {
+    const json j = parse(r);
+    return j.is_object() && j.contains("error") ? j["error"]["message"].get<std::string>() : "";
+  }
+  std::string newSession(json extra = json::object()) {
+    json body = {{"scene", "city"}, {"width", 160}, {"height", 120}};
+    body.update(extra);
+    auto r = post("/api/sessions", body);
+    EXPECT_TRUE(r && r->status == 201) << (r ? r->body : "no answer");
+    return r && r->status == 201 ? parse(r)["id"].get<std::string>() : "";
+  }
+  std::string newJob(json extra = json::object()) {
+    json body = {{"scene", "city"}, {"path", {{"kind", "orbit"}}},
+                 {"fps", 10},       {"frames", 12},
+                 {"width", 160},    {"height", 120}};
+    body.update(extra);
+    auto r = post("/api/jobs", body);
+    EXPECT_TRUE(r && r->status == 202) << (r ? r->body : "no answer");
+    return r && r->status == 202 ? parse(r)["id"].get<std::string>() : "";
+  }
+  json waitForJob(const std::string& id) {
+    for (int i = 0; i < 600; ++i) {
+      auto r = client().Get(("/api/jobs/" + id).c_str());
+      if (r && r->status == 200 && parse(r)["finished"].get<bool>()) return parse(r);
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    ADD_FAILURE() << "job " << id << " did not finish";
+    return {};
+  }
+
+  std::unique_ptr<service::Server> server;
+  std::thread thread;
+  int port = 0;
+  std::mutex logMutex;
+  std::string log;
+};
+
+bool isJpeg(const std::string& b) {
+  return b.size() > 3 && (unsigned char)b[0] == 0xff && (unsigned char)b[1] == 0xd8;
+}
+bool isPng(const std::string& b) {
+  return b.size() > 8 && b.compare(1, 3, "PNG") == 0;
+}
+
+}  // namespace
+
+TEST_F(ServerTest, HealthAndScenesListTheStoresOfTheDataFolderOnly) {
+  start();
+  auto h = client().Get("/healthz");
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->status, 200);
+  EXPECT_EQ(parse(h)["status"], "ok");
+  auto s = client().Get("/api/scenes");
+  ASSERT_TRUE(s);
+  ASSERT_EQ(s->status, 200);
+  const json scenes = parse(s)["scenes"];
+  ASSERT_EQ(scenes.size(), 1u) << s->body;  // not the folder without a store, not the broken one
+  EXPECT_EQ(scenes[0]["id"], "city");
+  EXPECT_GT(scenes[0]["nodes"].get<int>(), 2);
+  EXPECT_EQ(scenes[0]["defaultCamera"]["position"].size(), 3u);
+  EXPECT_NE(log.find("broken skipped"), std::string::npos) << log;
+  auto d = client().Get("/api/scenes/city");
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->status, 200);
+  EXPECT_GT(parse(d)["levelsDetail"].size(), 1u);
+  auto missing = client().Get("/api/scenes/nope");
+  EXPECT_EQ(missing->status, 404);
+  EXPECT_EQ(errorCode(missing), "not_found");
+}
+
+TEST_F(ServerTest, RenderAnswersAnImageWithServerTimingAndStatsHeaders) {
+  start();
+  auto r = post("/api/render", {{"scene", "city"}, {"width", 320}, {"height", 200}});
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(r->get_header_value("Content-Type"), "image/jpeg");
+  EXPECT_TRUE(isJpeg(r->body));
+  const std::string timing = r->get_header_value("Server-Timing");
+  for (const char* part : {"queue;dur=", "select;dur=", "upload;dur=", "draw;dur=", "readback;dur=",
+                           "encode;dur=", "total;dur="})
+    EXPECT_NE(timing.find(part), std::string::npos) << timing;
+  const json stats = json::parse(r->get_header_value("X-Hlodr-Stats"), nullptr, false);
+  ASSERT_TRUE(stats.is_object());
+  EXPECT_GT(stats["triangles"].get<long long>(), 0);
+  EXPECT_EQ(stats["targetMs"].get<double>(), 33.0);
+  auto png =
+      post("/api/render", {{"scene", "city"}, {"format", "png"}, {"width", 64}, {"height", 48}});
+  ASSERT_TRUE(png);
+  ASSERT_EQ(png->status, 200);
+  EXPECT_EQ(png->get_header_value("Content-Type"), "image/png");
+  EXPECT_TRUE(isPng(png->body));
+}
+
+TEST_F(ServerTest, BadInputIsA4xxThatNamesTheFieldAndTheServerKeepsServing) {
+  start();
+  struct Case {
+    std::string path, body, contentType;
+    int status;
+    std::string code, mentions;
+  };
+  const std::string deep = std::string(20000, '[') + std::string(20000, ']');
+  const std::vector<Case> cases = {
+      {"/api/render", "{not json", "application/json", 400, "bad_request", "not valid JSON"},
+      {"/api/render", "[1,2]", "application/json", 400, "bad_request", "JSON object"},
+      {"/api/render", R"({"scene":"city","width":0})", "application/json", 400, "bad_request",
+       "width"},
+      {"/api/render", R"({"scene":"city","height":99999})", "application/json", 400, "bad_request",
+       "height"},
+      {"/api/render", R"({"scene":"city","budgetMs":-1})", "application/json", 400, "bad_request",
+       "budgetMs"},
+      {"/api/render", R"({"scene":"city","selector":"best"})", "application/json", 400,
+       "bad_request", "selector"},
+      {"/api/render", R"({"scene":"city","widht":100})", "application/json", 400, "bad_request",
+       "widht"},
+      {"/api/render", R"({"scene":"city","camera":{"position":[0,0,"x"]}})", "application/json",
+       400, "bad_request", "camera.position"},
+      {"/api/render", R"({"scene":"city","camera":{"position":[1,1,1],"target":[1,1,1]}})",
+       "application/json", 400, "bad_request", "camera"},
+      {"/api/render", R"({"scene":"city","quality":0})", "application/json", 400, "bad_request",
+       "quality"},
+      {"/api/render", "{\"scene\":\"city\",\"width\":1e400}", "application/json", 400,
+       "bad_request", ""},
+      {"/api/render", R"({"scene":"../../etc/passwd"})", "application/json", 404, "not_found", ""},
+      {"/api/render", R"({"scene":"nope"})", "application/json", 404, "not_found", "nope"},
+      {"/api/render", R"({"width":100})", "application/json", 400, "bad_request", "scene"},
+      {"/api/render", R"({"scene":"city"})", "text/plain", 415, "unsupported_media_type", ""},
+      {"/api/render", deep, "application/json", 400, "bad_request", "nested"},
+      {"/api/sessions", R"({"scene":"city","memoryMb":-5})", "application/json", 400, "bad_request",
+       "memoryMb"},
+      {"/api/jobs", R"({"scene":"city"})", "application/json", 400, "bad_request", "path"},
+      {"/api/jobs", R"({"scene":"city","path":{"kind":"spiral"}})", "application/json", 400,
+       "bad_request", "path.kind"},
+      {"/api/jobs", R"({"scene":"city","path":{"keyframes":[{"time":0}]}})", "application/json",
+       400, "bad_request", "path"},
+      {"/api/jobs", R"({"scene":"city","path":{"kind":"orbit"},"fps":30000})", "application/json",
+       400, "bad_request", "fps"},
+      {"/api/jobs", R"({"scene":"city","path":{"kind":"orbit","duration":3000},"fps":240})",
+       "application/json", 400, "bad_request", "limit"},
+      {"/api/jobs", R"({"scene":"city","path":{"kind":"orbit"},"video":true,"width":161})",
+       "application/json", 400, "bad_request", "even"},
+  };
+  for (const auto& c : cases) {
+    auto r = client().Post(c.path.c_str(), c.body, c.contentType.c_str());
+    ASSERT_TRUE(r) << c.path << " " << c.body.substr(0, 60);
+    EXPECT_EQ(r->status, c.status) << c.body.substr(0, 60) << " -> " << r->body;
+    EXPECT_EQ(errorCode(r), c.code) << c.body.substr(0, 60) << " -> " << r->body;
+    EXPECT_NE(errorMessage(r).find(c.mentions), std::string::npos)
+        << c.body.substr(0, 60) << " -> " << r->body;
+  }
+  // A body over 1 MiB, an unknown route, a frame of an unknown session.
+  auto big = client().Post("/api/render", std::string(2 << 20, ' '), "application/json");
+  ASSERT_TRUE(big);
+  EXPECT_EQ(big->status, 413);
+  EXPECT_EQ(errorCode(big), "too_large");
+  auto route = client().Get("/api/teapot");
+  EXPECT_EQ(route->status, 404);
+  EXPECT_EQ(errorCode(route), "not_found");
+  auto ghost = post("/api/sessions/s00000000/frame", json::object());
+  EXPECT_EQ(ghost->status, 404);
+  EXPECT_EQ(client().Get("/api/jobs/j00000000")->status, 404);
+  EXPECT_EQ(client().Get("/api/jobs/x/frames/0")->status, 404);
+  // Still serving.
+  auto ok = post("/api/render", {{"scene", "city"}, {"width", 32}, {"height", 32}});
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 200);
+}
+
+TEST_F(ServerTest, ASessionKeepsItsCameraAndItsStatisticsAndIsClosedByDelete) {
+  start();
+  const std::string id = newSession({{"budgetMs", 20}});
+  ASSERT_FALSE(id.empty());
+  const json camera = {{"position", {100, -60, 40}}, {"target", {100, 50, 5}}};
+  std::vector<std::string> bodies;
+  for (int i = 0; i < 4; ++i) {
+    auto r = post("/api/sessions/" + id + "/frame",
+                  {{"camera", camera}, {"still", i == 3}, {"format", "png"}});
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body;
+    EXPECT_TRUE(isPng(r->body));
+    const json stats = json::parse(r->get_header_value("X-Hlodr-Stats"));
+    EXPECT_EQ(stats["session"], id);
+    EXPECT_EQ(stats["index"].get<int>(), i);  // one session: frames numbered in order
+    EXPECT_EQ(stats["targetMs"].get<double>(), 20.0);
+    bodies.push_back(r->body);
+  }
+  // No camera: the session's last one again.
+  auto again = post("/api/sessions/" + id + "/frame", {{"still", true}, {"format", "png"}});
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->status, 200);
+  auto info = client().Get(("/api/sessions/" + id).c_str());
+  ASSERT_TRUE(info);
+  ASSERT_EQ(info->status, 200);
+  const json j = parse(info);
+  EXPECT_EQ(j["frames"].get<int>(), 5);
+  EXPECT_EQ(j["recent"].size(), 5u);
+  EXPECT_EQ(j["camera"]["position"][0].get<double>(), 100.0);
+  auto del = client().Delete(("/api/sessions/" + id).c_str());
+  EXPECT_EQ(del->status, 204);
+  EXPECT_EQ(post("/api/sessions/" + id + "/frame", json::object())->status, 404);
+  EXPECT_EQ(client().Delete(("/api/sessions/" + id).c_str())->status, 404);
+}
+
+TEST_F(ServerTest, IdleSessionsExpireAndTheSessionLimitAnswers429) {
+  service::ServerOptions o;
+  o.sessionIdleSeconds = 1;
+  o.maxSessions = 2;
+  start(o);
+  const std::string a = newSession(), b = newSession();
+  auto third = post("/api/sessions", {{"scene", "city"}});
+  ASSERT_TRUE(third);
+  EXPECT_EQ(third->status, 429);
+  EXPECT_EQ(errorCode(third), "too_many_sessions");
+  std::this_thread::sleep_for(std::chrono::seconds(5));  // idle 1 s, checked every 2 s
+  EXPECT_EQ(client().Get(("/api/sessions/" + a).c_str())->status, 404);
+  EXPECT_EQ(client().Get(("/api/sessions/" + b).c_str())->status, 404);
+  EXPECT_FALSE(newSession().empty());  // room again
+}
+
+TEST_F(ServerTest, AJobRunsToTheEndWithFramesStatsVideoAndAnEventStreamThatReplays) {
+  start();
+  const std::string id = newJob({{"video", true}});
+  ASSERT_FALSE(id.empty());
+  // Follow the stream to its end: every frame once, then the end event.
+  int frames = 0, ends = 0;
+  std::vector<int> indices;
+  std::string buffer;
+  auto r =
+      client().Get(("/api/jobs/" + id + "/events").c_str(), [&](const char* data, std::size_t n) {
+        buffer.append(data, n);
+        std::size_t at;
+        while ((at = buffer.find("\n\n")) != std::string::npos) {
+          const std::string ev = buffer.substr(0, at);
+          buffer.erase(0, at + 2);
+          if (ev.rfind("event: frame", 0) == 0) {
+            ++frames;
+            indices.push_back(json::parse(ev.substr(ev.find("data: ") + 6))["index"]);
+          }
+          if (ev.rfind("event: end", 0) == 0) ++ends;
+        }
+        return true;
+      });
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->get_header_value("Content-Type"), "text/event-stream");
+  EXPECT_EQ(frames, 12);
+  EXPECT_EQ(ends, 1);
+  for (int i = 0; i < int(indices.size()); ++i) EXPECT_EQ(indices[i], i);
+  const json job = waitForJob(id);
+  EXPECT_EQ(job["state"], "done");
+  EXPECT_EQ(job["framesDone"].get<int>(), 12);
+  EXPECT_EQ(job["summary"]["frames"].get<int>(), 12);
+  // Outputs.
+  auto f = client().Get(("/api/jobs/" + id + "/frames/11").c_str());
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->status, 200);
+  EXPECT_TRUE(isJpeg(f->body));
+  EXPECT_EQ(client().Get(("/api/jobs/" + id + "/frames/12").c_str())->status, 404);
+  auto csv = client().Get(("/api/jobs/" + id + "/stats.csv").c_str());
+  ASSERT_TRUE(csv);
+  EXPECT_EQ(csv->body.rfind("index,time,targetMs", 0), 0u);
+  EXPECT_EQ(std::count(csv->body.begin(), csv->body.end(), '\n'), 13);
+  auto csv2 = client().Get(("/api/jobs/" + id + "/stats?format=csv").c_str());
+  EXPECT_EQ(csv2->body, csv->body);
+  auto stats = client().Get(("/api/jobs/" + id + "/stats").c_str());
+  EXPECT_EQ(parse(stats)["frames"].size(), 12u);
+  auto video = client().Get(("/api/jobs/" + id + "/video.mp4").c_str());
+  ASSERT_TRUE(video);
+  EXPECT_EQ(video->status, 200);
+  EXPECT_EQ(video->get_header_value("Content-Type"), "video/mp4");
+  EXPECT_NE(video->body.find("ftyp"), std::string::npos);
+  // A client joining after the end gets the whole replay.
+  auto late = client().Get(("/api/jobs/" + id + "/events").c_str());
+  ASSERT_TRUE(late);
+  std::size_t n = 0;
+  for (std::size_t at = 0; (at = late->body.find("event: frame", at)) != std::string::npos; ++at)
+    ++n;
+  EXPECT_EQ(n, 12u);
+  // The list, and removal of a finished job.
+  auto list = client().Get("/api/jobs");
+  EXPECT_EQ(parse(list)["jobs"][0]["id"], id);
+  EXPECT_EQ(client().Delete(("/api/jobs/" + id).c_str())->status, 204);
+  EXPECT_EQ(client().Get(("/api/jobs/" + id).c_str())->status, 404);
+}
+
+TEST_F(ServerTest, CancellingARunningJobStopsItAndKeepsWhatItRendered) {
+  start();
+  const std::string id = newJob({{"frames", 3000}, {"fps", 30}, {"video", true}});
+  ASSERT_FALSE(id.empty());
+  for (int i = 0; i < 300; ++i) {
+    if (parse(client().Get(("/api/jobs/" + id).c_str()))["framesDone"].get<int>() > 3) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  auto v = client().Get(("/api/jobs/" + id + "/video.mp4").c_str());
+  EXPECT_EQ(v->status, 409);  // not done yet
+  EXPECT_EQ(errorCode(v), "conflict");
+  auto c = client().Delete(("/api/jobs/" + id).c_str());
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->status, 200);
+  const json job = waitForJob(id);
+  EXPECT_EQ(job["state"], "cancelled");
+  const int done = job["framesDone"].get<int>();
+  EXPECT_GT(done, 3);
+  EXPECT_LT(done, 3000);
+  auto stats = client().Get(("/api/jobs/" + id + "/stats").c_str());
+  EXPECT_EQ(int(parse(stats)["frames"].size()), done);
+}
+
+TEST_F(ServerTest, EightConcurrentClientsAllGetTheirFrames) {
+  service::ServerOptions o;
+  o.queue = 64;
+  start(o);
+  // Eight clients at once, three frames each: nothing lost, every answer an image.
+  std::atomic<int> ok{0}, bad{0};
+  std::vector<std::thread> clients;
+  for (int c = 0; c < 8; ++c) {
+    clients.emplace_back([&, c] {
+      for (int i = 0; i < 3; ++i) {
+        auto r = post("/api/render",
+                      {{"scene", "city"},
+                       {"width", 96},
+                       {"height", 64},
+                       {"camera", {{"position", {10.0 * c, -50, 30}}, {"target", {60, 40, 0}}}}});
+        (r && r->status == 200 && isJpeg(r->body) ? ok : bad)++;
+      }
+    });
+  }
+  for (auto& t : clients) t.join();
+  EXPECT_EQ(ok.load(), 24);
+  EXPECT_EQ(bad.load(), 0);
+}
+
+TEST_F(ServerTest, PastTheQueueLimitRequestsGet503WithRetryAfter) {
+  service::ServerOptions o;
+  o.queue = 1;
+  o.workers = 1;
+  start(o);
+  std::atomic<int> ok{0}, busy{0}, other{0};
+  std::atomic<bool> retryAfter{true};
+  std::vector<std::thread> clients;
+  for (int c = 0; c < 12; ++c) {
+    clients.emplace_back([&] {
+      auto r = post("/api/render", {{"scene", "city"},
+                                    {"width", 640},
+                                    {"height", 480},
+                                    {"selector", "full"},
+                                    {"format", "png"}});
+      if (r && r->status == 200) {
+        ++ok;
+      } else if (r && r->status == 503) {
+        ++busy;
+        if (r->get_header_value("Retry-After").empty() || errorCode(r) != "busy")
+          retryAfter = false;
+      } else {
+        ++other;
+      }
+    });
+  }
+  for (auto& t : clients) t.join();
+  EXPECT_GE(ok.load(), 1);
+  EXPECT_GE(busy.load(), 1);
+  EXPECT_EQ(other.load(), 0);
+  EXPECT_TRUE(retryAfter.load());
+  auto after = post("/api/render", {{"scene", "city"}, {"width", 32}, {"height", 32}});
+  EXPECT_EQ(after->status, 200);
+}
+
+TEST_F(ServerTest, TwentyClientsDroppingTheirEventStreamsMidwayLeaveTheServerAnswering) {
+  service::ServerOptions o;
+  o.maxStreams = 25;
+  start(o);
+  const std::string id = newJob({{"frames", 600}, {"fps", 30}});
+  ASSERT_FALSE(id.empty());
+  std::vector<std::thread> clients;
+  std::atomic<int> gotData{0};
+  for (int c = 0; c < 20; ++c) {
+    clients.emplace_back([&] {
+      httplib::Client cl("127.0.0.1", port);
+      int chunks = 0;
+      // Returning false from the receiver drops the connection mid-stream.
+      cl.Get(("/api/jobs/" + id + "/events").c_str(), [&](const char*, std::size_t) {
+        if (++chunks == 1) ++gotData;
+        return chunks < 3;
+      });
+    });
+  }
+  for (auto& t : clients) t.join();
+  EXPECT_EQ(gotData.load(), 20);
+  // Their slots come back within a second or two; the server answers meanwhile.
+  auto h = client().Get("/healthz");
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->status, 200);
+  bool freed = false;
+  for (int i = 0; i < 50 && !freed; ++i) {
+    const std::string m = client().Get("/metrics")->body;
+    freed = m.find("hlodr_event_streams 0\n") != std::string::npos;
+    if (!freed) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_TRUE(freed);
+  EXPECT_EQ(client().Delete(("/api/jobs/" + id).c_str())->status, 200);
+}
+
+TEST_F(ServerTest, PastTheStreamLimitAnEventStreamGets503) {
+  service::ServerOptions o;
+  o.maxStreams = 2;
+  start(o);
+  const std::string id = newJob({{"frames", 900}, {"fps", 30}});
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> holders;
+  for (int c = 0; c < 2; ++c)
+    holders.emplace_back([&] {
+      httplib::Client cl("127.0.0.1", port);
+      cl.Get(("/api/jobs/" + id + "/events").c_str(),
+             [&](const char*, std::size_t) { return !stop.load(); });
+    });
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  auto third = client().Get(("/api/jobs/" + id + "/events").c_str());
+  ASSERT_TRUE(third);
+  EXPECT_EQ(third->status, 503);
+  EXPECT_FALSE(third->get_header_value("Retry-After").empty());
+  stop = true;
+  client().Delete(("/api/jobs/" + id).c_str());
+  for (auto& t : holders) t.join();
+}
+
+TEST_F(ServerTest, MetricsAreInThePrometheusFormatAndCountTheFrames) {
+  start();
+  ASSERT_EQ(post("/api/render", {{"scene", "city"}, {"width", 32}, {"height", 32}})->status, 200);
+  auto m = client().Get("/metrics");
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->status, 200);
+  EXPECT_EQ(m->get_header_value("Content-Type").rfind("text/plain; version=0.0.4", 0), 0u);
+  const std::string text = m->body;
+  for (const char* name :
+       {"hlodr_frames_total{kind=\"render\"} 1", "# TYPE hlodr_frame_seconds histogram",
+        "hlodr_frame_seconds_bucket{le=\"0.033\"}", "hlodr_frame_seconds_count 1",
+        "hlodr_http_request_duration_seconds_count", "hlodr_queue_length", "hlodr_sessions",
+        "hlodr_jobs{state=\"running\"}", "hlodr_resident_bytes", "hlodr_loads_total"})
+    EXPECT_NE(text.find(name), std::string::npos) << name << "\n" << text;
+  // promtool (Debian's prometheus package) accepts it.
+  if (std::system("command -v promtool >/dev/null 2>&1") != 0) {
+    if (std::getenv("CI")) FAIL() << "promtool missing in CI (scripts/setup.sh installs it)";
+    GTEST_SKIP() << "promtool not installed (apt-get install prometheus)";
+  }
+  const fs::path f = dataDir() / "metrics.txt";
+  std::ofstream(f) << text;
+  const std::string cmd = "promtool check metrics < " + f.string() + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  char buf[512];
+  while (fgets(buf, sizeof buf, p)) out += buf;
+  EXPECT_EQ(pclose(p), 0) << out;
+}
+
+TEST_F(ServerTest, StopCancelsRunningJobsAndTheyCloseTheirVideoAndStats) {
+  start();
+  const std::string id = newJob({{"frames", 3000}, {"fps", 30}, {"video", true}});
+  for (int i = 0; i < 300; ++i) {
+    if (parse(client().Get(("/api/jobs/" + id).c_str()))["framesDone"].get<int>() > 3) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  server->stop();
+  thread.join();
+  const fs::path dir = dataDir() / "jobs_StopCancelsRunningJobsAndTheyCloseTheirVideoAndStats" / id;
+  ASSERT_TRUE(fs::exists(dir / "stats.json"));
+  std::ifstream in(dir / "stats.json");
+  const json stats = json::parse(in, nullptr, false);
+  ASSERT_TRUE(stats.is_object());
+  EXPECT_GT(stats["frames"].size(), 3u);
+  // A closed MP4: ffprobe reads its duration (an unfinished one has no moov atom).
+  if (std::system("command -v ffprobe >/dev/null 2>&1") == 0) {
+    const std::string cmd = "ffprobe -v error -show_entries format=duration -of csv=p=0 " +
+                            (dir / "video.mp4").string() + " >/dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+  }
+}
+
+TEST_F(ServerTest, ThePageIsServedAtTheRoot) {
+  service::ServerOptions o;
+  const fs::path web = dataDir() / "web";
+  fs::create_directories(web);
+  std::ofstream(web / "index.html") << "<!doctype html><title>hlodr</title>";
+  o.webDir = web;
+  start(o);
+  auto r = client().Get("/");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+  EXPECT_NE(r->body.find("<title>hlodr</title>"), std::string::npos);
+  EXPECT_EQ(client().Get("/../../etc/passwd")->status == 200 &&
+                client().Get("/../../etc/passwd")->body.find("root:") != std::string::npos,
+            false);
+  EXPECT_EQ(client().Get("/api/scenes")->status, 200);  // the API still answers beside the files
+}
