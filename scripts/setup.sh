@@ -10,8 +10,20 @@ packages=(
   libtinygltf-dev libstb-dev nlohmann-json3-dev libcpp-httplib-dev libdeflate-dev libturbojpeg0-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6 libosmesa6-dev
   ffmpeg
-  prometheus wrk
+  prometheus wrk curl
 )
+
+# --runtime-packages BINARY: the Debian packages that hold the libraries BINARY links (from ldd),
+# plus what hlodr opens at run time (Mesa's EGL and OSMesa drivers) or runs (ffmpeg): the list
+# of a runtime image.
+if [ "${1:-}" = "--runtime-packages" ]; then
+  bin=${2:?usage: setup.sh --runtime-packages BINARY}
+  { ldd "$bin" | awk '/=> \//{print $3}' | xargs -r -n1 readlink -f | xargs -r dpkg -S 2>/dev/null \
+      | cut -d: -f1
+    printf '%s\n' libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6 ffmpeg; } | sort -u | tr '\n' ' '
+  echo
+  exit 0
+fi
 
 missing=()
 for p in "${packages[@]}"; do

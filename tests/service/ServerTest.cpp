@@ -570,7 +570,8 @@ TEST_F(ServerTest, StopCancelsRunningJobsAndTheyCloseTheirVideoAndStats) {
 
 TEST_F(ServerTest, ThePageIsServedAtTheRoot) {
   service::ServerOptions o;
-  const fs::path web = dataDir() / "web";
+  const fs::path web =
+      fs::temp_directory_path() / ("hlodr_server_web_" + std::to_string(::getpid()));
   fs::create_directories(web);
   std::ofstream(web / "index.html") << "<!doctype html><title>hlodr</title>";
   o.webDir = web;
