@@ -26,6 +26,8 @@ const std::vector<Command>& commands() {
        cmd::kCalibrateUsage, cmd::runCalibrate},
       {"path", "write a camera path (walk-fly, drive, orbit) for a node store", cmd::kPathUsage,
        cmd::runPath},
+      {"study", "what accuracy costs in time: selectors and budgets against full detail",
+       cmd::kStudyUsage, cmd::runStudy},
       {"serve", "serve the HTTP API and the web page over a folder of node stores",
        cmd::kServeUsage, cmd::runServe},
   };

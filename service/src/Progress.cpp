@@ -15,7 +15,7 @@ ProgressLine::ProgressLine(std::string command, bool quiet)
 void ProgressLine::update(double fraction, const std::string& text) {
   if (quiet_) return;
   if (tty_) {
-    std::fprintf(stderr, "\r%s: %s  ", command_.c_str(), text.c_str());
+    std::fprintf(stderr, "\r%s: %3.0f%%  %s  ", command_.c_str(), 100.0 * fraction, text.c_str());
     shown_ = true;
     return;
   }

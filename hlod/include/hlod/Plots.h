@@ -20,6 +20,9 @@ struct PlotSeries {
   double width = 1.5;
   double opacity = 1.0;
   bool dashed = false;
+  bool line = true;                 // false: markers only (a scatter)
+  double marker = 0.0;              // radius of a circle at each point; 0: none
+  std::vector<std::string> labels;  // optional, one per point, written beside its marker
 };
 
 struct PlotSpec {
@@ -30,6 +33,8 @@ struct PlotSpec {
   int width = 960;
   int height = 480;
   bool zeroLine = false;  // a horizontal line at y = 0
+  bool yFromZero = true;  // the y axis starts at 0 for positive data; false: fits the data
+  bool xFromZero = false;
 };
 
 // A line chart; non-finite points are skipped. Always valid SVG, also with no data.

@@ -172,9 +172,8 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
     }
   }
 
-  const std::vector<std::uint32_t> ordered =
-      nearToFar(selector_->skeleton(), view.camera.position, sel.front);
-  auto drawn = renderer_.draw(view.camera, ordered);
+  lastFront_ = nearToFar(selector_->skeleton(), view.camera.position, sel.front);
+  auto drawn = renderer_.draw(view.camera, lastFront_);
   if (!drawn) return drawn.error();
 
   // Frame time: this frame's uploads plus the GL work through glFinish (settled-mode uploads

@@ -61,6 +61,19 @@ double niceStep(double range, int count) {
   return 10.0 * p;
 }
 
+PlotSeries lineSeries(std::string name, std::string color, std::vector<double> x,
+                      std::vector<double> y, double width, double opacity, bool dashed) {
+  PlotSeries s;
+  s.name = std::move(name);
+  s.color = std::move(color);
+  s.x = std::move(x);
+  s.y = std::move(y);
+  s.width = width;
+  s.opacity = opacity;
+  s.dashed = dashed;
+  return s;
+}
+
 std::vector<double> indexX(std::span<const FrameRecord> frames) {
   std::vector<double> x;
   for (const FrameRecord& f : frames) x.push_back(static_cast<double>(f.index));
@@ -100,7 +113,13 @@ std::string lineChartSvg(const PlotSpec& spec) {
     }
   }
   if (x0 > x1) x0 = 0, x1 = 1, y0 = 0, y1 = 1;  // no data
-  if (spec.zeroLine || y0 > 0.0) y0 = std::min(y0, 0.0);
+  if (spec.zeroLine || (spec.yFromZero && y0 > 0.0)) y0 = std::min(y0, 0.0);
+  if (spec.xFromZero && x0 > 0.0) x0 = 0.0;
+  if (!spec.yFromZero && y1 - y0 > 0.0) {
+    const double pad = (y1 - y0) * 0.05;  // markers at the extremes stay inside the frame
+    y0 -= pad;
+    y1 += pad;
+  }
   if (y1 < 0.0 && spec.zeroLine) y1 = 0.0;
   if (x1 - x0 <= 0.0) x1 = x0 + 1.0;
   if (y1 - y0 <= 0.0) y1 = y0 + 1.0;
@@ -150,18 +169,34 @@ std::string lineChartSvg(const PlotSpec& spec) {
       pts << (n++ ? " " : "") << num(X(s.x[i])) << ',' << num(Y(s.y[i]));
     }
     if (n == 0) continue;
-    o << "<polyline fill=\"none\" stroke=\"" << escape(s.color) << "\" stroke-width=\""
-      << num(s.width) << "\" stroke-opacity=\"" << num(s.opacity) << "\""
-      << (s.dashed ? " stroke-dasharray=\"6,4\"" : "") << " points=\"" << pts.str() << "\"/>\n";
+    if (s.line)
+      o << "<polyline fill=\"none\" stroke=\"" << escape(s.color) << "\" stroke-width=\""
+        << num(s.width) << "\" stroke-opacity=\"" << num(s.opacity) << "\""
+        << (s.dashed ? " stroke-dasharray=\"6,4\"" : "") << " points=\"" << pts.str() << "\"/>\n";
+    for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
+      if (s.marker > 0.0)
+        o << "<circle cx=\"" << num(X(s.x[i])) << "\" cy=\"" << num(Y(s.y[i])) << "\" r=\""
+          << num(s.marker) << "\" fill=\"" << escape(s.color) << "\" fill-opacity=\""
+          << num(s.opacity) << "\"/>\n";
+      if (i < s.labels.size() && !s.labels[i].empty())
+        o << "<text x=\"" << num(X(s.x[i]) + s.marker + 3) << "\" y=\"" << num(Y(s.y[i]) - 4)
+          << "\" font-size=\"10\" fill=\"#333\">" << escape(s.labels[i]) << "</text>\n";
+    }
   }
   // Legend.
   double ly = top + 10;
   for (const PlotSeries& s : spec.series) {
     const double lx = left + pw + 15;
-    o << "<line x1=\"" << num(lx) << "\" y1=\"" << num(ly) << "\" x2=\"" << num(lx + 24)
-      << "\" y2=\"" << num(ly) << "\" stroke=\"" << escape(s.color) << "\" stroke-width=\""
-      << num(std::max(2.0, s.width)) << "\"" << (s.dashed ? " stroke-dasharray=\"6,4\"" : "")
-      << "/>\n<text x=\"" << num(lx + 30) << "\" y=\"" << num(ly + 4) << "\">" << escape(s.name)
+    if (s.line)
+      o << "<line x1=\"" << num(lx) << "\" y1=\"" << num(ly) << "\" x2=\"" << num(lx + 24)
+        << "\" y2=\"" << num(ly) << "\" stroke=\"" << escape(s.color) << "\" stroke-width=\""
+        << num(std::max(2.0, s.width)) << "\"" << (s.dashed ? " stroke-dasharray=\"6,4\"" : "")
+        << "/>\n";
+    if (s.marker > 0.0 || !s.line)
+      o << "<circle cx=\"" << num(lx + 12) << "\" cy=\"" << num(ly) << "\" r=\""
+        << num(std::max(3.0, s.marker)) << "\" fill=\"" << escape(s.color) << "\"/>\n";
+    o << "<text x=\"" << num(lx + 30) << "\" y=\"" << num(ly + 4) << "\">" << escape(s.name)
       << "</text>\n";
     ly += 18;
   }
@@ -202,11 +237,13 @@ std::string togglesSvg(std::span<const FrameRecord> frames, int window, const st
     up.push_back(f.upToggles);
     down.push_back(-static_cast<double>(f.downToggles));
   }
-  spec.series.push_back({"up", "#2ca02c", x, up, 1.0, 0.35, false});
-  spec.series.push_back({"down", "#d62728", x, down, 1.0, 0.35, false});
+  spec.series.push_back(lineSeries("up", "#2ca02c", x, up, 1.0, 0.35, false));
+  spec.series.push_back(lineSeries("down", "#d62728", x, down, 1.0, 0.35, false));
   const std::string avg = " (" + std::to_string(std::max(1, window)) + "-frame avg)";
-  spec.series.push_back({"up" + avg, "#1a6e1a", x, movingAverage(up, window), 2.5, 1.0, false});
-  spec.series.push_back({"down" + avg, "#8b1a1a", x, movingAverage(down, window), 2.5, 1.0, false});
+  spec.series.push_back(
+      lineSeries("up" + avg, "#1a6e1a", x, movingAverage(up, window), 2.5, 1.0, false));
+  spec.series.push_back(
+      lineSeries("down" + avg, "#8b1a1a", x, movingAverage(down, window), 2.5, 1.0, false));
   return lineChartSvg(spec);
 }
 
@@ -222,9 +259,9 @@ std::string frameTimeSvg(std::span<const FrameRecord> frames, const std::string&
     target.push_back(f.targetMs);
     estimated.push_back(f.estimatedMs);
   }
-  spec.series.push_back({"actual", "#1f77b4", x, actual, 1.5, 1.0, false});
-  spec.series.push_back({"target", "#d62728", x, target, 2.0, 1.0, true});
-  spec.series.push_back({"estimated", "#7f7f7f", x, estimated, 1.0, 0.8, false});
+  spec.series.push_back(lineSeries("actual", "#1f77b4", x, actual, 1.5, 1.0, false));
+  spec.series.push_back(lineSeries("target", "#d62728", x, target, 2.0, 1.0, true));
+  spec.series.push_back(lineSeries("estimated", "#7f7f7f", x, estimated, 1.0, 0.8, false));
   return lineChartSvg(spec);
 }
 

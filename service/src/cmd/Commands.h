@@ -25,6 +25,9 @@ int runInfo(const Argv& args);
 extern const char* const kCalibrateUsage;
 int runCalibrate(const Argv& args);
 
+extern const char* const kStudyUsage;
+int runStudy(const Argv& args);
+
 extern const char* const kServeUsage;
 int runServe(const Argv& args);
 

@@ -110,6 +110,8 @@ class FrameDriver {
   NodeRenderer& renderer() { return renderer_; }
   const FrameDriverOptions& options() const { return options_; }
   std::uint64_t framesRendered() const { return frames_; }
+  // The front the last frame drew, near to far.
+  const std::vector<std::uint32_t>& lastFront() const { return lastFront_; }
   // The last options().recentFrames records, oldest first.
   const std::deque<FrameRecord>& recent() const { return recent_; }
   // The v_time start() measured (0 before start, or when it was given).
@@ -127,6 +129,7 @@ class FrameDriver {
   std::uint64_t frames_ = 0;
   double measuredVTime_ = 0.0;
   std::deque<FrameRecord> recent_;
+  std::vector<std::uint32_t> lastFront_;
 };
 
 // The front of a selection ordered near to far from the camera (by distance to each node's box):

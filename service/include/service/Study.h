@@ -1,0 +1,48 @@
+#pragma once
+// `hlodr study`: renders the accuracy study of a node store along a camera path (see
+// hlod/study/Study.h for what is measured, hlod/study/StudyReport.h for the report).
+// For each studied frame the reference (the `full` selector, settled) is drawn once; then each
+// selector at each budget (and SSE at each pixel threshold) runs through the same frames in a
+// session of its own: settled (only the studied frames, each loaded before it is drawn) and/or
+// realtime (every frame of the path at fps, never waiting, measured at the studied frames).
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hlod/CameraPath.h"
+#include "hlod/NodeSource.h"
+#include "hlod/study/StudyReport.h"
+#include "renderer/GlContext.h"
+
+namespace service {
+
+struct StudyOptions {
+  std::vector<double> budgets{8, 16, 33, 66, 133};
+  std::vector<std::string> selectors{"lakhia", "sse", "fs"};
+  std::vector<double> ssePx{1, 2, 4, 8, 16, 32};
+  int width = 640;
+  int height = 360;
+  std::size_t frames = 24;  // frames studied, spread evenly over the path
+  double fps = 30.0;
+  bool settled = true;
+  bool realtime = false;
+  std::size_t stripFrames = 3;  // frames shown in strips at every Lakhia budget
+  std::uint64_t memoryCapBytes = 0;
+};
+
+// what: a line for a person; fraction: of the whole study.
+using StudyProgress = std::function<void(const std::string& what, double fraction)>;
+
+// Renders the study into outDir (created) and writes its report there. context: the GL context
+// to render on (current on this thread), or nullptr for one of its own. A set cancel flag ends
+// it early with an Error.
+hlod::Result<hlod::study::StudyReport> runStudy(
+    std::shared_ptr<const hlod::NodeSource> source, const hlod::CameraPath& path,
+    const StudyOptions& options, const std::filesystem::path& outDir,
+    const nlohmann::json& settings, const StudyProgress& progress = {},
+    const std::atomic<bool>* cancel = nullptr, renderer::GlContext* context = nullptr);
+
+}  // namespace service

@@ -1,0 +1,236 @@
+// The accuracy study's renders. See service/Study.h.
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "hlod/metrics/ImageMetrics.h"
+#include "renderer/ImageEncoder.h"
+#include "service/Session.h"
+#include "service/Study.h"
+
+namespace service {
+
+namespace fs = std::filesystem;
+using namespace hlod::study;
+
+namespace {
+
+std::array<std::uint8_t, 3> backgroundOf(const renderer::Effects& e) {
+  auto c = [](float v) {
+    return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.f, 1.f) * 255));
+  };
+  return {c(e.background.r), c(e.background.g), c(e.background.b)};
+}
+
+// The studied frames: `count` path frames spread evenly from the first to the last.
+std::vector<std::uint64_t> studiedFrames(std::uint64_t total, std::size_t count) {
+  std::vector<std::uint64_t> out;
+  if (total == 0 || count == 0) return out;
+  count = static_cast<std::size_t>(std::min<std::uint64_t>(count, total));
+  for (std::size_t i = 0; i < count; ++i)
+    out.push_back(count == 1 ? 0
+                             : std::uint64_t(std::llround(double(i) * double(total - 1) /
+                                                          double(count - 1))));
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+struct Measured {
+  FrameResult result;
+  hlod::Image image;
+  std::vector<float> flipMap;
+};
+
+}  // namespace
+
+hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> source,
+                                   const hlod::CameraPath& path, const StudyOptions& o,
+                                   const fs::path& outDir, const nlohmann::json& settings,
+                                   const StudyProgress& progress, const std::atomic<bool>* cancel,
+                                   renderer::GlContext* given) {
+  if (o.budgets.empty() &&
+      std::find(o.selectors.begin(), o.selectors.end(), "sse") == o.selectors.end())
+    return hlod::makeError("no budget to study");
+  if (!o.settled && !o.realtime) return hlod::makeError("no mode to study");
+  auto total = path.frameCount(o.fps);
+  if (!total) return total.error();
+  const std::vector<std::uint64_t> frames = studiedFrames(*total, o.frames);
+  std::error_code ec;
+  fs::create_directories(outDir, ec);
+  if (!fs::is_directory(outDir, ec))
+    return hlod::makeError("cannot create the folder " + outDir.string());
+
+  std::unique_ptr<renderer::GlContext> own;
+  if (!given) {
+    auto c = renderer::createContext(renderer::Backend::Auto);
+    if (!c) return c.error();
+    own = std::move(*c);
+  }
+  renderer::GlContext& gl = given ? *given : *own;
+  const double aspect = double(o.width) / o.height;
+
+  // The configurations, in the order they run.
+  std::vector<StudyConfig> configs;
+  for (bool realtime : {false, true}) {
+    if (realtime ? !o.realtime : !o.settled) continue;
+    for (const auto& sel : o.selectors) {
+      if (sel == "sse") {
+        for (double px : o.ssePx)
+          configs.push_back(
+              {sel, 33.0, px, realtime ? hlod::FrameMode::Realtime : hlod::FrameMode::Settled});
+      } else {
+        for (double b : o.budgets)
+          configs.push_back(
+              {sel, b, 0.0, realtime ? hlod::FrameMode::Realtime : hlod::FrameMode::Settled});
+      }
+    }
+  }
+  // Work, for the progress: reference frames, studied frames, and every realtime frame.
+  double work = double(frames.size()), done = 0.0;
+  for (const auto& c : configs)
+    work += c.mode == hlod::FrameMode::Settled ? double(frames.size()) : double(frames.back() + 1);
+  auto step = [&](const std::string& what) {
+    done += 1.0;
+    if (progress) progress(what, done / work);
+  };
+  auto cancelled = [&] { return cancel && cancel->load(); };
+
+  SessionOptions base;
+  base.width = o.width;
+  base.height = o.height;
+  base.memoryCapBytes = o.memoryCapBytes;
+  base.recentFrames = 0;
+  const auto bg = backgroundOf(base.effects);
+
+  // The reference: full detail, settled, once per studied frame.
+  StudyReport report;
+  report.settings = settings;
+  std::vector<hlod::Image> refImages;
+  std::vector<hlod::metrics::Mask> refMasks;
+  {
+    SessionOptions ro = base;
+    ro.selector = "full";
+    auto s = Session::create(source, ro, gl);
+    if (!s) return hlod::makeError("reference: " + s.message());
+    for (std::uint64_t f : frames) {
+      if (cancelled()) return hlod::makeError("cancelled");
+      auto rec = (*s)->renderFrame(path.sampleFrame(f, o.fps, aspect), hlod::FrameMode::Settled);
+      if (!rec)
+        return hlod::makeError("reference frame " + std::to_string(f) + ": " + rec.message());
+      report.reference.push_back({f, rec->time, rec->gpuMs, rec->triangles});
+      refImages.push_back((*s)->readback());
+      refMasks.push_back(hlod::metrics::backgroundMask(refImages.back(), bg));
+      step("reference frame " + std::to_string(f));
+    }
+  }
+
+  // Strips: a few studied frames, shown at every Lakhia budget (settled).
+  std::vector<std::size_t> stripAt;
+  for (std::size_t k = 0; k < o.stripFrames && !frames.empty(); ++k)
+    stripAt.push_back(
+        std::min(frames.size() - 1,
+                 (2 * k + 1) * frames.size() / (2 * std::max<std::size_t>(1, o.stripFrames))));
+  stripAt.erase(std::unique(stripAt.begin(), stripAt.end()), stripAt.end());
+  std::map<std::pair<std::size_t, double>, Measured> stripCells;  // (studied index, budget)
+
+  for (const StudyConfig& c : configs) {
+    SessionOptions so = base;
+    so.selector = c.selector;
+    so.budgetMs = c.budgetMs;
+    so.selectorParams.ssePixels = c.ssePx > 0.0 ? c.ssePx : so.selectorParams.ssePixels;
+    auto s = Session::create(source, so, gl);
+    if (!s) return hlod::makeError(c.label() + ": " + s.message());
+    Run run;
+    run.config = c;
+    std::uint64_t lastBytes = 0;
+    std::size_t next = 0;  // the next studied frame
+    const std::uint64_t last = frames.back();
+    for (std::uint64_t f = c.mode == hlod::FrameMode::Settled ? frames.front() : 0; f <= last;
+         ++f) {
+      const bool studied = next < frames.size() && frames[next] == f;
+      if (c.mode == hlod::FrameMode::Settled && !studied) continue;
+      if (cancelled()) return hlod::makeError("cancelled");
+      const hlod::CameraSample sample = path.sampleFrame(f, o.fps, aspect);
+      auto rec = (*s)->renderFrame(sample, c.mode);
+      if (!rec)
+        return hlod::makeError(c.label() + ", frame " + std::to_string(f) + ": " + rec.message());
+      if (studied) {
+        Measured m;
+        FrameResult& r = m.result;
+        r.frame = f;
+        r.time = rec->time;
+        r.frameMs = rec->gpuMs;
+        r.queryGpuMs = rec->queryGpuMs;
+        r.triangles = rec->triangles;
+        r.toggles = rec->upToggles + rec->downToggles;
+        r.bytesLoaded = rec->bytesRead - lastBytes;
+        lastBytes = rec->bytesRead;
+        m.image = (*s)->readback();
+        const hlod::Image& ref = refImages[next];
+        auto p = hlod::metrics::psnr(ref, m.image);
+        auto ss = hlod::metrics::ssim(ref, m.image);
+        auto fm = hlod::metrics::flipMap(ref, m.image);
+        auto cov = hlod::metrics::coverageDifference(refMasks[next],
+                                                     hlod::metrics::backgroundMask(m.image, bg));
+        if (!p || !ss || !fm || !cov)
+          return hlod::makeError("metrics failed on frame " + std::to_string(f));
+        r.psnr = std::min(*p, kMaxPsnr);
+        r.ssim = *ss;
+        double sum = 0.0;
+        for (float v : *fm) sum += v;
+        r.flip = fm->empty() ? 0.0 : sum / double(fm->size());
+        r.coverage = *cov;
+        hlod::View view{sample.camera, sample.velocity, o.width, o.height};
+        view.camera.aspect = aspect;
+        const auto e = frontScreenError((*s)->skeleton(), view, (*s)->driver().lastFront());
+        r.sseMaxPx = e.maxPx;
+        r.sseMeanPx = e.meanPx;
+        run.frames.push_back(r);
+        if (c.selector == "lakhia" && c.mode == hlod::FrameMode::Settled &&
+            std::find(stripAt.begin(), stripAt.end(), next) != stripAt.end()) {
+          m.flipMap = std::move(*fm);
+          stripCells[{next, c.budgetMs}] = std::move(m);
+        }
+        ++next;
+      }
+      step(c.label() + ", frame " + std::to_string(f));
+    }
+    run.summary = summarize(run.frames);
+    report.runs.push_back(std::move(run));
+  }
+  markParetoFront(report.runs);
+
+  // The strips: the reference and each Lakhia budget, over their FLIP heat maps.
+  std::vector<double> budgets;
+  for (const auto& [key, m] : stripCells)
+    if (std::find(budgets.begin(), budgets.end(), key.second) == budgets.end())
+      budgets.push_back(key.second);
+  std::sort(budgets.begin(), budgets.end());
+  for (std::size_t k : stripAt) {
+    std::vector<hlod::Image> cells;
+    cells.push_back(refImages[k]);
+    for (double b : budgets) cells.push_back(stripCells[{k, b}].image);
+    cells.push_back({});
+    for (double b : budgets) {
+      const Measured& m = stripCells[{k, b}];
+      cells.push_back(hlod::metrics::errorHeatMap(m.flipMap, m.image.width, m.image.height));
+    }
+    const int cw = std::min(o.width, 320), ch = std::max(1, cw * o.height / o.width);
+    const hlod::Image grid = composeGrid(cells, int(budgets.size()) + 1, cw, ch);
+    auto png = renderer::encodePng(grid);
+    if (!png) return png.error();
+    const std::string name = "strip-" + std::to_string(frames[k]) + ".png";
+    if (auto w = renderer::writeBytes((outDir / name).string(), *png); !w) return w.error();
+    report.strips.push_back(name);
+    std::string caption = "Frame " + std::to_string(frames[k]) +
+                          " (t = " + std::to_string(report.reference[k].time).substr(0, 5) +
+                          " s). Top: full detail, then Lakhia at";
+    for (double b : budgets) caption += " " + std::to_string(int(b)) + " ms";
+    caption += ". Bottom: FLIP error against full detail (black none, yellow most).";
+    report.stripCaptions.push_back(caption);
+  }
+  if (auto w = writeStudyReport(outDir, report); !w) return w.error();
+  return report;
+}
+
+}  // namespace service
