@@ -86,6 +86,9 @@ export const api = {
   createSession: (body) => json('POST', '/api/sessions', body),
   sessionFrame: (id, body) => frame('POST', `/api/sessions/${encodeURIComponent(id)}/frame`, body),
   deleteSession: (id) => json('DELETE', `/api/sessions/${encodeURIComponent(id)}`),
+  // For a page that is going away: fire and forget, the request outlives the page.
+  deleteSessionOnUnload: (id) =>
+    fetch(`/api/sessions/${encodeURIComponent(id)}`, { method: 'DELETE', keepalive: true }).catch(() => {}),
 
   jobs: () => json('GET', '/api/jobs').then((r) => r.jobs),
   job: (id) => json('GET', `/api/jobs/${encodeURIComponent(id)}`),

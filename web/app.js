@@ -45,7 +45,7 @@ const jobView = new JobView(
     caption: $('#job-caption'),
   },
   dashboard,
-  { onError, onStateChange: () => jobsList.refresh() },
+  { onError, onRecovered, onStateChange: () => jobsList.refresh() },
 );
 const jobsList = new JobsList($('#jobs'), {
   onShow: (job) => jobView.follow(job, levelsOf(job.scene)),
@@ -171,6 +171,7 @@ $('#settings').addEventListener('submit', (e) => {
   e.preventDefault(); // Enter in a field: the change event already applied it
 });
 $('#runner').addEventListener('submit', startJob);
+window.addEventListener('pagehide', () => viewer.closeOnUnload());
 
 // "fit the view" follows the view's size, once the resizing has stopped.
 let refitTimer = 0;

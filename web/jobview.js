@@ -6,14 +6,17 @@ import { api } from './api.js';
 import { el, formatMiB, formatMs } from './dom.js';
 
 const FINAL_STATES = new Set(['done', 'failed', 'cancelled']);
+const REOPEN_MS = 2000;
 
 export class JobView {
   // parts: {title, state, summary, image, slider, play, caption}; dashboard: charts.Dashboard;
-  // onError(error, key); onStateChange(): the jobs list refreshes.
-  constructor(parts, dashboard, { onError, onStateChange }) {
+  // onError(error, key), onRecovered(key): the error bar; onStateChange(): the jobs list refreshes.
+  constructor(parts, dashboard, { onError, onRecovered, onStateChange }) {
     this.parts = parts;
     this.dashboard = dashboard;
     this.onError = onError;
+    this.onRecovered = onRecovered;
+    this.reopenTimer = 0;
     this.onStateChange = onStateChange;
     this.job = null;
     this.events = null;
@@ -55,6 +58,7 @@ export class JobView {
   open() {
     const events = new EventSource(api.jobEventsUrl(this.job.id));
     this.events = events;
+    events.addEventListener('open', () => this.onRecovered('events'));
     events.addEventListener('frame', (e) => this.frameEvent(JSON.parse(e.data)));
     events.addEventListener('state', (e) => {
       const d = JSON.parse(e.data);
@@ -72,16 +76,34 @@ export class JobView {
       this.onStateChange();
     });
     events.addEventListener('error', () => {
-      // The browser retries by itself while CONNECTING; CLOSED means it gave up (e.g. the server
-      // answered 503 busy or 404 for a removed job).
+      // While CONNECTING the browser retries by itself; CLOSED means it gave up: the server
+      // refused the stream (503 when too many are open, 404 for a removed job).
       if (events.readyState === EventSource.CLOSED && this.events === events) {
         this.events = null;
-        this.onError(new Error(`the event stream of job ${this.job.id} closed before the job ended`), 'events');
+        this.reopenLater();
       }
     });
   }
 
+  // After a refused stream: says so, and tries again while the job is still there (the replay
+  // brings the frames missed meanwhile; frameEvent drops those it has).
+  async reopenLater() {
+    const job = this.job;
+    try {
+      await api.job(job.id);
+    } catch (e) {
+      this.onError(e, 'events'); // e.g. the job was removed
+      return;
+    }
+    if (this.job !== job) return;
+    this.onError(new Error(`the event stream of job ${job.id} was refused (is the server busy?); trying again`), 'events');
+    this.reopenTimer = setTimeout(() => {
+      if (this.job === job) this.open();
+    }, REOPEN_MS);
+  }
+
   close() {
+    clearTimeout(this.reopenTimer);
     if (this.events) this.events.close();
     this.events = null;
     this.stopPlaying();

@@ -28,6 +28,7 @@ export class Viewer {
     this.settings = null;
     this.camera = null;
     this.session = null;
+    this.toClose = []; // sessions of older settings, closed when no request is in flight
     this.generation = 0; // bumped by configure(): answers of an older one are dropped
     this.inFlight = false;
     this.dirty = false; // the camera moved since the last request was sent
@@ -50,11 +51,26 @@ export class Viewer {
     this.cameraChanged();
   }
 
+  // Closes the current session; one with a request in flight is closed once that returns (closing
+  // it under the request would make the request fail with a 404).
   closeSession() {
-    const old = this.session;
+    if (this.session) this.toClose.push(this.session);
     this.session = null;
-    // An expired session answers 404, which is what closing wants anyway.
-    if (old) api.deleteSession(old.id).catch((e) => e.status !== 404 && this.onError(e, 'session'));
+    if (!this.inFlight) this.flushClosed();
+  }
+
+  // The page goes away: close the session now rather than let it hold a server slot until it
+  // expires (keepalive lets the request outlive the page).
+  closeOnUnload() {
+    for (const old of [...this.toClose.splice(0), this.session].filter(Boolean)) api.deleteSessionOnUnload(old.id);
+    this.session = null;
+  }
+
+  flushClosed() {
+    for (const old of this.toClose.splice(0)) {
+      // An expired session answers 404, which is what closing wants anyway.
+      api.deleteSession(old.id).catch((e) => e.status !== 404 && this.onError(e, 'session'));
+    }
   }
 
   // The camera moved: ask for a frame, and for a still one once it rests.
@@ -86,6 +102,7 @@ export class Viewer {
     } finally {
       this.inFlight = false;
     }
+    this.flushClosed();
     this.pump();
   }
 
@@ -101,7 +118,7 @@ export class Viewer {
       memoryMb: s.memoryMb,
     });
     if (generation !== this.generation) {
-      api.deleteSession(session.id).catch(() => {}); // settings changed while it opened
+      this.toClose.push(session); // the settings changed while it opened
       return false;
     }
     this.session = session;

@@ -3,8 +3,8 @@
 // already running). It orbits, zooms and walks and checks that the frame changes, that frames
 // are asked one at a time (real-time while moving, one still frame at rest), shows an API error
 // to the user, runs a 30-frame path job, checks that every chart got every frame, downloads the
-// CSV and fails on any console error or page error. Screenshots go to HLODR_WEB_SCREENSHOTS
-// (default build/web-screenshots/).
+// CSV, cancels a running job, and fails on any console error or page error. Screenshots go to
+// HLODR_WEB_SCREENSHOTS (default build/web-screenshots/).
 //
 // Exit 77 (ctest's skip) with a message when Chromium, node_modules or hlodr's serve command is
 // missing.
@@ -292,6 +292,26 @@ test('a path job plays its frames, fills every chart, and offers its CSV and MP4
     return { status: r.status, type: r.headers.get('Content-Type'), box: String.fromCharCode(...bytes.slice(4, 8)) };
   }, video);
   assert.deepEqual(mp4, { status: 200, type: 'video/mp4', box: 'ftyp' });
+});
+
+test('a running job can be cancelled from the jobs list', async () => {
+  await page.fill('#frames', '1000');
+  await page.uncheck('#video');
+  const previous = await page.evaluate(() => window.hlodrDebug.job().id);
+  await page.click('#start-job');
+  await page.waitForFunction((id) => {
+    const job = window.hlodrDebug.job();
+    return job.id !== id && job.framesReceived >= 2;
+  }, previous, { timeout: 60000 });
+  const id = await page.evaluate(() => window.hlodrDebug.job().id);
+  const cancel = page.locator(`tr[data-job="${id}"] button.cancel`);
+  await cancel.waitFor({ timeout: 15000 });
+  await cancel.click();
+  await page.waitForFunction(() => window.hlodrDebug.job().state === 'cancelled', null, { timeout: 30000 });
+  await page.locator(`tr[data-job="${id}"][data-state="cancelled"]`).waitFor({ timeout: 15000 });
+  const job = await page.evaluate(() => window.hlodrDebug.job());
+  assert.ok(job.framesReceived < 1000, 'it stopped before its last frame');
+  await shot('6-job-cancelled');
 });
 
 test('the page uses nothing but its own server, and the vendored uPlot is the npm package', () => {
