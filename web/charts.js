@@ -5,17 +5,21 @@
 import uPlot from './vendor/uplot/uPlot.esm.js';
 
 const PLOT_HEIGHT = 160;
+// Tick steps for whole numbers (frames, node counts): never a tick at 0.5 of a frame.
+const WHOLE_STEPS = [1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000, 1e5, 2e5, 5e5, 1e6];
 // Levels from coarse (hlod_0) to fine, on a sequential scale that stays readable when stacked.
 const LEVEL_COLOURS = ['#3b4cc0', '#5a78d6', '#7b9ff2', '#9ebeff', '#c0d4f5', '#dddcdc', '#f2cbb7',
   '#f7ac8e', '#ee8468', '#d65244', '#b40426'];
 
-// One chart in a container element; series: [{label, colour, dash, fill, bars, value(record)}].
+// One chart in a container element; series: [{label, colour, dash, fill, bars, value(record)}];
+// whole: the values are counts (ticks on whole numbers).
 class Chart {
-  constructor(container, { title, yLabel, series, stacked = false, yMin = 0 }) {
+  constructor(container, { title, yLabel, series, stacked = false, whole = false, yMin = 0 }) {
     this.container = container;
     this.title = title;
     this.yLabel = yLabel;
     this.stacked = stacked;
+    this.whole = whole;
     this.yMin = yMin;
     this.pending = false;
     this.plot = null;
@@ -41,8 +45,8 @@ class Chart {
         y: { range: (u, min, max) => [Math.min(this.yMin, min), max > min ? max * 1.05 : min + 1] },
       },
       axes: [
-        { label: 'frame', labelSize: 16, size: 32 },
-        { label: this.yLabel, labelSize: 16, size: 52 },
+        { label: 'frame', labelSize: 16, size: 32, incrs: WHOLE_STEPS },
+        { label: this.yLabel, labelSize: 16, size: 52, incrs: this.whole ? WHOLE_STEPS : undefined },
       ],
       cursor: { drag: { x: false, y: false } },
       legend: { live: true },
@@ -121,10 +125,10 @@ export class Dashboard {
         ],
       }),
       levels: new Chart(containers.levels, {
-        title: 'HLODs drawn per level (stacked)', yLabel: 'nodes', stacked: true, series: levelSeries(1),
+        title: 'HLODs drawn per level (stacked)', yLabel: 'nodes', stacked: true, whole: true, series: levelSeries(1),
       }),
       toggles: new Chart(containers.toggles, {
-        title: 'Toggles per frame', yLabel: 'nodes',
+        title: 'Toggles per frame', yLabel: 'nodes', whole: true,
         series: [
           { label: 'up (finer)', colour: '#2e8b57', value: (r) => r.upToggles },
           { label: 'down (coarser)', colour: '#d2691e', value: (r) => r.downToggles },
@@ -139,7 +143,7 @@ export class Dashboard {
         ],
       }),
       loads: new Chart(containers.loads, {
-        title: 'Node loads per frame', yLabel: 'nodes',
+        title: 'Node loads per frame', yLabel: 'nodes', whole: true,
         series: [
           {
             label: 'loads', colour: '#3a7ca5', bars: true,
