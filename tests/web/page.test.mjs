@@ -120,18 +120,33 @@ async function frameHash() {
 
 const viewerState = () => page.evaluate(() => window.hlodrDebug.viewer());
 
+// page.waitForFunction, and on a timeout what the page and the server were doing.
+async function waitOnPage(fn, arg, timeout, what) {
+  try {
+    await page.waitForFunction(fn, arg, { timeout });
+  } catch (e) {
+    const state = await page.evaluate(() => ({
+      viewer: window.hlodrDebug.viewer(),
+      job: window.hlodrDebug.job(),
+      charts: window.hlodrDebug.chartPoints(),
+      errors: window.hlodrDebug.errors(),
+    })).catch((err) => `(page state unreadable: ${err.message})`);
+    throw new Error(`${what}: ${e.message}\npage: ${JSON.stringify(state)}\nconsole: ${problems.join(' | ')}` +
+      `\nserver log (tail):\n${serverLog.slice(-4000)}`);
+  }
+}
+
 // Waits until a still frame newer than `before` is shown and nothing is in flight.
 async function waitForRest(before, what) {
-  await page.waitForFunction(
+  await waitOnPage(
     (n) => {
       const v = window.hlodrDebug.viewer();
       return v.stillFramesShown > n && !v.inFlight;
     },
     before.stillFramesShown,
-    { timeout: 30000 },
-  ).catch((e) => {
-    throw new Error(`no still frame after ${what}: ${e.message}\nerrors on the page: ${problems.join(' | ')}`);
-  });
+    30000,
+    `no still frame after ${what}`,
+  );
 }
 
 async function shot(name) {
@@ -255,17 +270,26 @@ test("an out-of-range setting shows the API's error message, and a good one clea
   assert.equal(await page.locator('#errors .error').count(), 0, 'the error went once frames came again');
 });
 
+test('a new size makes a new session whose frames have that size', async () => {
+  const before = await viewerState();
+  // 640 x 360 also keeps the path job below quick on a loaded machine.
+  await page.selectOption('#size', '640x360');
+  await waitForRest(before, 'the size changed');
+  const now = await viewerState();
+  assert.notEqual(now.session, before.session, 'a new session');
+  assert.deepEqual(await page.evaluate(() => [document.querySelector('#frame').width, document.querySelector('#frame').height]),
+    [640, 360]);
+});
+
 test('a path job plays its frames, fills every chart, and offers its CSV and MP4', async () => {
   await page.fill('#frames', String(JOB_FRAMES));
   await page.selectOption('#path-kind', 'walk-fly');
   await page.check('#video');
   await page.click('#start-job');
-  await page.waitForFunction(() => window.hlodrDebug.job().state === 'running' || window.hlodrDebug.job().state === 'done',
-    null, { timeout: 30000 });
-  await page.waitForFunction(() => window.hlodrDebug.job().framesReceived >= 5, null, { timeout: 60000 });
+  await waitOnPage(() => window.hlodrDebug.job().framesReceived >= 5, null, 120000, 'the job sent no frames');
   await shot('4-job-running');
-  await page.waitForFunction(() => ['done', 'failed', 'cancelled'].includes(window.hlodrDebug.job().state), null,
-    { timeout: 120000 });
+  await waitOnPage(() => ['done', 'failed', 'cancelled'].includes(window.hlodrDebug.job().state), null, 180000,
+    'the job did not end');
   const job = await page.evaluate(() => window.hlodrDebug.job());
   assert.equal(job.state, 'done', `the job ended ${job.state}: ${problems.join(' | ')}`);
   assert.equal(job.framesReceived, JOB_FRAMES);
@@ -305,15 +329,15 @@ test('a running job can be cancelled from the jobs list', async () => {
   await page.uncheck('#video');
   const previous = await page.evaluate(() => window.hlodrDebug.job().id);
   await page.click('#start-job');
-  await page.waitForFunction((id) => {
+  await waitOnPage((id) => {
     const job = window.hlodrDebug.job();
     return job.id !== id && job.framesReceived >= 2;
-  }, previous, { timeout: 60000 });
+  }, previous, 120000, 'the long job sent no frames');
   const id = await page.evaluate(() => window.hlodrDebug.job().id);
   const cancel = page.locator(`tr[data-job="${id}"] button.cancel`);
   await cancel.waitFor({ timeout: 15000 });
   await cancel.click();
-  await page.waitForFunction(() => window.hlodrDebug.job().state === 'cancelled', null, { timeout: 30000 });
+  await waitOnPage(() => window.hlodrDebug.job().state === 'cancelled', null, 30000, 'the job was not cancelled');
   await page.locator(`tr[data-job="${id}"][data-state="cancelled"]`).waitFor({ timeout: 15000 });
   const job = await page.evaluate(() => window.hlodrDebug.job());
   assert.ok(job.framesReceived < 1000, 'it stopped before its last frame');
