@@ -50,6 +50,7 @@ if (!process.env.HLODR_WEB_URL) {
 const { chromium } = await import('playwright-core');
 
 let tmp;
+let profile; // Chromium's fresh --user-data-dir
 let server;
 let serverLog = '';
 let baseUrl;
@@ -156,7 +157,7 @@ async function shot(name) {
 
 before(async () => {
   baseUrl = process.env.HLODR_WEB_URL ? process.env.HLODR_WEB_URL.replace(/\/$/, '') : await startServer();
-  const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'hlodr-chromium-'));
+  profile = fs.mkdtempSync(path.join(os.tmpdir(), 'hlodr-chromium-'));
   context = await chromium.launchPersistentContext(profile, {
     executablePath: CHROMIUM,
     headless: true,
@@ -189,7 +190,7 @@ after(async () => {
     server.kill('SIGTERM');
     await new Promise((r) => (server.exitCode !== null ? r() : server.once('exit', r)));
   }
-  if (tmp) fs.rmSync(tmp, { recursive: true, force: true });
+  for (const dir of [tmp, profile]) if (dir) fs.rmSync(dir, { recursive: true, force: true });
 });
 
 test('the page loads, picks the scene and shows a still frame', async () => {
