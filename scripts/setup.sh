@@ -11,7 +11,11 @@ packages=(
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6 libosmesa6-dev
   ffmpeg
   prometheus wrk curl
+  chromium
 )
+# The browser test (tests/web) needs node and npm. Debian's npm conflicts with a Node that was
+# installed another way, so both come from Debian only when there is no npm at all.
+command -v npm >/dev/null || packages+=(nodejs npm)
 
 # --runtime-packages BINARY: the Debian packages that hold the libraries BINARY links (from ldd),
 # plus what hlodr opens at run time (Mesa's EGL and OSMesa drivers) or runs (ffmpeg): the list

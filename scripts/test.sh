@@ -1,7 +1,14 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the whole test suite (unit + GL + service tests).
+# Installs what is missing, builds, and runs the whole test suite (unit, GL, service and browser tests).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh
+# The browser test's node modules (playwright-core, pinned in tests/web/package-lock.json): installed
+# only when missing or not matching the lock file, so a second run needs no network.
+if command -v npm >/dev/null; then
+  (cd tests/web && { npm ls --offline >/dev/null 2>&1 || npm ci --no-audit --no-fund; })
+else
+  echo "test: no npm, the browser test (web.page) will be skipped"
+fi
 # Software GL here: tests that render use Mesa's llvmpipe through EGL surfaceless or OSMesa.
 ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 600
