@@ -585,3 +585,47 @@ TEST_F(ServerTest, ThePageIsServedAtTheRoot) {
             false);
   EXPECT_EQ(client().Get("/api/scenes")->status, 200);  // the API still answers beside the files
 }
+
+TEST_F(ServerTest, AStudyRunsAsAJobAndServesItsReport) {
+  start();
+  auto r = post("/api/studies", {{"scene", "city"},
+                                 {"path", {{"kind", "orbit"}}},
+                                 {"frames", 2},
+                                 {"budgets", {16, 33}},
+                                 {"selectors", {"lakhia", "sse"}},
+                                 {"ssePx", {8}},
+                                 {"width", 160},
+                                 {"height", 90},
+                                 {"strips", 1}});
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 202) << r->body;
+  const std::string id = parse(r)["id"];
+  EXPECT_EQ(parse(r)["kind"], "study");
+  json study;
+  for (int i = 0; i < 600; ++i) {
+    study = parse(client().Get(("/api/studies/" + id).c_str()));
+    if (study["finished"].get<bool>()) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(study["state"], "done") << study.dump();
+  EXPECT_DOUBLE_EQ(study["progress"].get<double>(), 1.0);
+  const std::string report = study["outputs"]["report"];
+  auto html = client().Get(report.c_str());
+  ASSERT_TRUE(html);
+  EXPECT_EQ(html->status, 200);
+  EXPECT_NE(html->body.find("What accuracy costs in time"), std::string::npos);
+  auto data = client().Get(("/api/studies/" + id + "/report/study.json").c_str());
+  ASSERT_EQ(data->status, 200);
+  EXPECT_EQ(parse(data)["runs"].size(), 3u);  // lakhia 16, lakhia 33, sse 8 px
+  EXPECT_EQ(client().Get(("/api/studies/" + id + "/report/pareto.svg").c_str())->status, 200);
+  for (const char* bad : {"..%2Fstudy.json", "STUDY.json", "study.json.bak", "a.exe", ".json"})
+    EXPECT_EQ(client().Get(("/api/studies/" + id + "/report/" + bad).c_str())->status, 404) << bad;
+  // Not a path job: the job routes do not see it, the list of studies does.
+  EXPECT_EQ(client().Get(("/api/jobs/" + id).c_str())->status, 404);
+  EXPECT_EQ(parse(client().Get("/api/studies"))["studies"][0]["id"], id);
+  auto badStudy =
+      post("/api/studies", {{"scene", "city"}, {"path", {{"kind", "orbit"}}}, {"budgets", {0}}});
+  EXPECT_EQ(badStudy->status, 400);
+  EXPECT_NE(errorMessage(badStudy).find("budgets"), std::string::npos);
+  EXPECT_EQ(client().Delete(("/api/studies/" + id).c_str())->status, 204);
+}

@@ -1,6 +1,7 @@
 // The HTTP API (docs/api.md): parse and validate on the HTTP thread, render on a worker, answer.
 #include "server/HttpApi.h"
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
@@ -79,6 +80,53 @@ bool admit(ApiContext& api, Response& res) {
     return false;
   }
   return true;
+}
+
+std::shared_ptr<Job> pathJob(ApiContext& api, const std::string& id) {
+  auto job = api.jobs.find(id);
+  return job && job->kind == "path" ? job : nullptr;
+}
+
+std::shared_ptr<Job> studyJob(ApiContext& api, const std::string& id) {
+  auto job = api.jobs.find(id);
+  return job && job->kind == "study" ? job : nullptr;
+}
+
+// A list of numbers in a range (the study's budgets, thresholds).
+ApiResult<std::vector<double>> numbers(const JsonInput& in, const char* name,
+                                       std::vector<double> fallback, double lo, double hi) {
+  if (!in.has(name)) return fallback;
+  const auto& v = in.json()[name];
+  const std::string err = std::string(name) + ": must be a list of 1..16 numbers in " +
+                          std::to_string(lo).substr(0, 5) + ".." + std::to_string(hi).substr(0, 6);
+  if (!v.is_array() || v.empty() || v.size() > 16) return badRequest(err);
+  std::vector<double> out;
+  for (const auto& x : v) {
+    if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < lo ||
+        x.get<double>() > hi)
+      return badRequest(err);
+    out.push_back(x.get<double>());
+  }
+  return out;
+}
+
+// The "path" field of a job or a study: {"kind", "duration"} or {"keyframes": [...]}.
+ApiResult<nlohmann::json> readPathSpec(const JsonInput& in) {
+  if (!in.has("path")) return badRequest("path: is required");
+  const nlohmann::json& path = in.json()["path"];
+  if (path.is_object() && path.contains("kind")) {
+    auto p = JsonInput::of(path, "path", {"kind", "duration"});
+    if (!p) return badRequest(p.message());
+    auto kind = p->choice("kind", "", {"walk-fly", "drive", "orbit"});
+    auto duration = p->number("duration", 0.0, 1.0, 3600.0);
+    if (!kind) return badRequest(kind.message());
+    if (!duration) return badRequest(duration.message());
+    nlohmann::json spec = {{"kind", *kind}};
+    if (p->has("duration")) spec["duration"] = *duration;
+    return spec;
+  }
+  if (path.is_object() && path.contains("keyframes")) return path;
+  return badRequest("path: must be {\"kind\": ...} or {\"keyframes\": [...]}");
 }
 
 // One slot of --max-streams, given back when the stream ends or its client goes away.
@@ -222,22 +270,9 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     s.video = *video;
     s.frames = *frames;
     s.prefetch = *prefetch;
-    if (!in->has("path")) return sendError(res, badRequest("path: is required"));
-    const nlohmann::json& path = in->json()["path"];
-    if (path.is_object() && path.contains("kind")) {
-      auto p = JsonInput::of(path, "path", {"kind", "duration"});
-      if (!p) return sendError(res, badRequest(p.message()));
-      auto kind = p->choice("kind", "", {"walk-fly", "drive", "orbit"});
-      auto duration = p->number("duration", 0.0, 1.0, 3600.0);
-      if (!kind) return sendError(res, badRequest(kind.message()));
-      if (!duration) return sendError(res, badRequest(duration.message()));
-      s.path = {{"kind", *kind}};
-      if (p->has("duration")) s.path["duration"] = *duration;
-    } else if (path.is_object() && path.contains("keyframes")) {
-      s.path = path;
-    } else {
-      return sendError(res, badRequest("path: must be {\"kind\": ...} or {\"keyframes\": [...]}"));
-    }
+    auto spec = readPathSpec(*in);
+    if (!spec) return sendError(res, spec.error());
+    s.path = *spec;
     if (api.stopping) return sendError(res, {503, "busy", "the server is shutting down"});
     auto job = api.jobs.submit(scene, std::move(s));
     if (!job) return sendError(res, job.error());
@@ -246,12 +281,13 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
 
   http.Get("/api/jobs", [&](const Request&, Response& res) {
     nlohmann::json list = nlohmann::json::array();
-    for (const auto& j : api.jobs.list()) list.push_back(j->json());
+    for (const auto& j : api.jobs.list())
+      if (j->kind == "path") list.push_back(j->json());
     sendJson(res, 200, {{"jobs", list}});
   });
 
   http.Get(R"(/api/jobs/([^/]+))", [&](const Request& req, Response& res) {
-    auto job = api.jobs.find(req.matches[1]);
+    auto job = pathJob(api, req.matches[1]);
     if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
     sendJson(res, 200, job->json());
   });
@@ -268,7 +304,7 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
   });
 
   http.Get(R"(/api/jobs/([^/]+)/frames/(\d{1,9}))", [&](const Request& req, Response& res) {
-    auto job = api.jobs.find(req.matches[1]);
+    auto job = pathJob(api, req.matches[1]);
     if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
     const std::uint64_t n = std::stoull(req.matches[2]);
     const auto path = job->framePath(n);
@@ -277,7 +313,7 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
   });
 
   auto stats = [&](const Request& req, Response& res, bool csv) {
-    auto job = api.jobs.find(req.matches[1]);
+    auto job = pathJob(api, req.matches[1]);
     if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
     if (csv || req.get_param_value("format") == "csv") {
       res.set_header("Content-Disposition", "attachment; filename=\"" + job->id + ".stats.csv\"");
@@ -292,7 +328,7 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
            [stats](const Request& req, Response& res) { stats(req, res, true); });
 
   http.Get(R"(/api/jobs/([^/]+)/video\.mp4)", [&](const Request& req, Response& res) {
-    auto job = api.jobs.find(req.matches[1]);
+    auto job = pathJob(api, req.matches[1]);
     if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
     if (!job->settings.video) return sendError(res, notFound("job " + job->id + " has no video"));
     if (job->state() != JobState::Done)
@@ -305,7 +341,7 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
   });
 
   http.Get(R"(/api/jobs/([^/]+)/events)", [&](const Request& req, Response& res) {
-    auto job = api.jobs.find(req.matches[1]);
+    auto job = pathJob(api, req.matches[1]);
     if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
     if (++api.streams > api.maxStreams) {
       --api.streams;
@@ -356,6 +392,103 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
           return true;
         },
         [slot](bool) {});
+  });
+
+  http.Post("/api/studies", [&](const Request& req, Response& res) {
+    if (!jsonBody(req, res)) return;
+    auto in = JsonInput::parse(req.body, {"scene", "path", "budgets", "selectors", "ssePx", "width",
+                                          "height", "frames", "fps", "mode", "strips"});
+    if (!in) return sendError(res, badRequest(in.message()));
+    auto id = in->string("scene", 64);
+    if (!id) return sendError(res, badRequest(id.message()));
+    auto scene = api.scenes.find(*id);
+    if (!scene) return sendError(res, notFound("no scene '" + *id + "'"));
+    StudyOptions o;
+    auto budgets = numbers(*in, "budgets", o.budgets, 1.0, 10000.0);
+    auto sse = numbers(*in, "ssePx", o.ssePx, 0.1, 1000.0);
+    auto w = in->integer("width", 640, 16, api.maxSize);
+    auto h = in->integer("height", 360, 16, api.maxSize);
+    auto frames = in->integer("frames", 24, 1, 1000);
+    auto fps = in->number("fps", 30.0, 1.0, 240.0);
+    auto strips = in->integer("strips", 3, 0, 10);
+    auto mode = in->choice("mode", "settled", {"settled", "realtime", "both"});
+    for (const auto* r : {&budgets, &sse})
+      if (!*r) return sendError(res, r->error());
+    for (const auto* r : {&w, &h, &frames, &strips})
+      if (!*r) return sendError(res, badRequest(r->message()));
+    if (!fps) return sendError(res, badRequest(fps.message()));
+    if (!mode) return sendError(res, badRequest(mode.message()));
+    if (in->has("selectors")) {
+      const auto& v = in->json()["selectors"];
+      o.selectors.clear();
+      if (!v.is_array() || v.empty() || v.size() > 3)
+        return sendError(res, badRequest("selectors: must be a list of lakhia, sse, fs"));
+      for (const auto& x : v) {
+        if (!x.is_string() || (x != "lakhia" && x != "sse" && x != "fs"))
+          return sendError(res, badRequest("selectors: must be a list of lakhia, sse, fs"));
+        o.selectors.push_back(x.get<std::string>());
+      }
+    }
+    o.budgets = *budgets;
+    o.ssePx = *sse;
+    o.width = int(*w);
+    o.height = int(*h);
+    o.frames = std::size_t(*frames);
+    o.fps = *fps;
+    o.stripFrames = std::size_t(*strips);
+    o.settled = *mode != "realtime";
+    o.realtime = *mode != "settled";
+    auto spec = readPathSpec(*in);
+    if (!spec) return sendError(res, spec.error());
+    JobSettings s;
+    s.path = *spec;
+    s.fps = o.fps;
+    if (api.stopping) return sendError(res, {503, "busy", "the server is shutting down"});
+    auto job = api.jobs.submitStudy(scene, std::move(s), std::move(o));
+    if (!job) return sendError(res, job.error());
+    sendJson(res, 202, *job);
+  });
+
+  http.Get("/api/studies", [&](const Request&, Response& res) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& j : api.jobs.list())
+      if (j->kind == "study") list.push_back(j->json());
+    sendJson(res, 200, {{"studies", list}});
+  });
+
+  http.Get(R"(/api/studies/([^/]+))", [&](const Request& req, Response& res) {
+    auto job = studyJob(api, req.matches[1]);
+    if (!job) return sendError(res, notFound("no study " + std::string(req.matches[1])));
+    sendJson(res, 200, job->json());
+  });
+
+  http.Delete(R"(/api/studies/([^/]+))", [&](const Request& req, Response& res) {
+    if (!studyJob(api, req.matches[1]))
+      return sendError(res, notFound("no study " + std::string(req.matches[1])));
+    auto r = api.jobs.cancelOrRemove(req.matches[1]);
+    if (!r) return sendError(res, r.error());
+    if (*r) {
+      auto job = api.jobs.find(req.matches[1]);
+      sendJson(res, 200, job ? job->json() : nlohmann::json::object());
+    } else {
+      res.status = 204;
+    }
+  });
+
+  http.Get(R"(/api/studies/([^/]+)/report/([^/]+))", [&](const Request& req, Response& res) {
+    auto job = studyJob(api, req.matches[1]);
+    if (!job) return sendError(res, notFound("no study " + std::string(req.matches[1])));
+    const std::string name = req.matches[2];
+    const auto file = job->reportFile(name);
+    if (file.empty())
+      return sendError(res, notFound("the report has no file " + name.substr(0, 64)));
+    const std::string ext = name.substr(name.rfind('.') + 1);
+    const char* type = ext == "html"  ? "text/html; charset=utf-8"
+                       : ext == "svg" ? "image/svg+xml"
+                       : ext == "png" ? "image/png"
+                       : ext == "csv" ? "text/csv"
+                                      : "application/json";
+    if (!sendFile(res, file, type)) return sendError(res, notFound("no file " + name));
   });
 }
 

@@ -76,6 +76,32 @@ void Job::setState(JobState s, const std::string& error) {
   cv_.notify_all();
 }
 
+void Job::setProgress(double fraction, const std::string& what) {
+  {
+    std::lock_guard lock(mutex_);
+    progress_ = fraction;
+    doing_ = what;
+  }
+  cv_.notify_all();
+}
+
+fs::path Job::reportFile(const std::string& name) const {
+  // Only the report's own files: a name of letters, digits and dashes with one of its
+  // extensions. Nothing a client sends reaches outside the job's folder.
+  if (name.empty() || name.size() > 64) return {};
+  const auto dot = name.rfind('.');
+  if (dot == std::string::npos || dot == 0) return {};
+  for (std::size_t i = 0; i < dot; ++i) {
+    const char c = name[i];
+    if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-')) return {};
+  }
+  const std::string ext = name.substr(dot + 1);
+  if (ext != "html" && ext != "svg" && ext != "png" && ext != "json" && ext != "csv") return {};
+  std::error_code ec;
+  const fs::path p = dir / name;
+  return fs::is_regular_file(p, ec) ? p : fs::path{};
+}
+
 void Job::addFrame(const hlod::FrameRecord& r) {
   {
     std::lock_guard lock(mutex_);
@@ -109,8 +135,37 @@ nlohmann::json Job::json() const {
   settingsJson["prefetch"] = settings.prefetch;
   settingsJson["path"] =
       settings.path.contains("kind") ? settings.path : nlohmann::json("keyframes");
+  if (kind == "study") {
+    nlohmann::json j = {
+        {"id", id},
+        {"kind", kind},
+        {"scene", scene->id},
+        {"state", jobStateName(state_)},
+        {"progress", progress_},
+        {"doing", doing_},
+        {"createdAt", createdAt},
+        {"settings",
+         {{"width", study.width},
+          {"height", study.height},
+          {"frames", study.frames},
+          {"budgets", study.budgets},
+          {"selectors", study.selectors},
+          {"ssePx", study.ssePx},
+          {"mode", study.settled && study.realtime ? "both"
+                   : study.realtime                ? "realtime"
+                                                   : "settled"},
+          {"path", settings.path.contains("kind") ? settings.path : nlohmann::json("keyframes")}}},
+        {"finished", done},
+        {"outputs",
+         {{"report", state_ == JobState::Done
+                         ? nlohmann::json("/api/studies/" + id + "/report/index.html")
+                         : nlohmann::json(nullptr)}}}};
+    if (!error_.empty()) j["error"] = error_;
+    return j;
+  }
   nlohmann::json j = {
       {"id", id},
+      {"kind", kind},
       {"scene", scene->id},
       {"state", jobStateName(state_)},
       {"framesDone", records_.size()},
@@ -163,29 +218,24 @@ JobManager::JobManager(std::vector<RenderWorker*> runners, SceneRegistry& scenes
 
 JobManager::~JobManager() = default;
 
-ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene,
-                                             JobSettings settings) {
+ApiResult<std::shared_ptr<hlod::CameraPath>> JobManager::pathOf(const Scene& scene,
+                                                                const JobSettings& settings) {
   // The path: generated for the scene, or given.
   hlod::Result<hlod::CameraPath> path = hlod::makeError("no path");
   if (settings.path.contains("kind")) {
-    path = hlod::makeCameraPath(settings.path["kind"].get<std::string>(), scene->store->skeleton());
+    path = hlod::makeCameraPath(settings.path["kind"].get<std::string>(), scene.store->skeleton());
     if (path && settings.path.contains("duration"))
       path = hlod::withDuration(*path, settings.path["duration"].get<double>());
   } else {
     path = hlod::CameraPath::parse(settings.path.dump());
   }
   if (!path) return badRequest("path: " + path.message());
-  auto count = path->frameCount(settings.fps);
-  if (!count) return badRequest("path: " + count.message());
-  std::uint64_t total = *count;
-  if (settings.frames >= 0) total = std::min<std::uint64_t>(total, settings.frames);
-  if (total > limits_.maxFrames)
-    return badRequest("the path gives " + std::to_string(total) + " frames at " +
-                      std::to_string(settings.fps) + " fps, more than the server's limit of " +
-                      std::to_string(limits_.maxFrames) + " (give \"frames\" or a lower fps)");
-  if (settings.video && (settings.render.width % 2 || settings.render.height % 2))
-    return badRequest("video: an MP4 needs an even width and height");
+  return std::make_shared<hlod::CameraPath>(std::move(*path));
+}
 
+ApiResult<std::shared_ptr<Job>> JobManager::admitJob(const std::shared_ptr<Scene>& scene,
+                                                     JobSettings settings,
+                                                     const std::string& kind) {
   auto job = std::make_shared<Job>();
   {
     std::lock_guard lock(mutex_);
@@ -195,14 +245,14 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
       return ApiError{429, "too_many_jobs",
                       "at most " + std::to_string(limits_.maxJobs) +
                           " jobs queued or running; wait or cancel one"};
-    do job->id = newId('j');
+    do job->id = newId(kind == "study" ? 'a' : 'j');
     while (
         std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& j) { return j->id == job->id; }));
+    job->kind = kind;
     job->scene = scene;
     job->settings = std::move(settings);
     job->createdAt = utcNow();
     job->dir = jobsDir_ / job->id;
-    job->framesTotal = total;
     jobs_.push_back(job);
   }
   std::error_code ec;
@@ -211,17 +261,77 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
     job->setState(JobState::Failed, "cannot create the job's folder: " + ec.message());
     return ApiError{500, "internal", "cannot create the job's folder: " + ec.message()};
   }
-  auto shared = std::make_shared<hlod::CameraPath>(std::move(*path));
+  return job;
+}
+
+RenderWorker* JobManager::leastBusyRunner() const {
   RenderWorker* runner = runners_.front();
   for (RenderWorker* r : runners_)
     if (r->queued() < runner->queued()) runner = r;
-  runner->post([this, job, shared](renderer::GlContext& gl) {
+  return runner;
+}
+
+ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene,
+                                             JobSettings settings) {
+  auto path = pathOf(*scene, settings);
+  if (!path) return path.error();
+  auto count = (*path)->frameCount(settings.fps);
+  if (!count) return badRequest("path: " + count.message());
+  std::uint64_t total = *count;
+  if (settings.frames >= 0) total = std::min<std::uint64_t>(total, settings.frames);
+  if (total > limits_.maxFrames)
+    return badRequest("the path gives " + std::to_string(total) + " frames at " +
+                      std::to_string(settings.fps) + " fps, more than the server's limit of " +
+                      std::to_string(limits_.maxFrames) + " (give \"frames\" or a lower fps)");
+  if (settings.video && (settings.render.width % 2 || settings.render.height % 2))
+    return badRequest("video: an MP4 needs an even width and height");
+  auto admitted = admitJob(scene, std::move(settings), "path");
+  if (!admitted) return admitted.error();
+  std::shared_ptr<Job> job = *admitted;
+  job->framesTotal = total;
+  std::shared_ptr<hlod::CameraPath> shared = *path;
+  leastBusyRunner()->post([this, job, shared](renderer::GlContext& gl) {
     if (job->cancel) {
       job->setState(JobState::Cancelled);
       return;
     }
     job->setState(JobState::Running);
     runPathJob(job, *shared, gl);
+  });
+  trimFinished();
+  return job->json();
+}
+
+ApiResult<nlohmann::json> JobManager::submitStudy(const std::shared_ptr<Scene>& scene,
+                                                  JobSettings settings, StudyOptions study) {
+  auto path = pathOf(*scene, settings);
+  if (!path) return path.error();
+  auto count = (*path)->frameCount(study.fps);
+  if (!count) return badRequest("path: " + count.message());
+  if (study.realtime && *count > limits_.maxFrames)
+    return badRequest(
+        "a realtime study renders every frame of the path: " + std::to_string(*count) +
+        " frames, more than the server's limit of " + std::to_string(limits_.maxFrames));
+  auto admitted = admitJob(scene, std::move(settings), "study");
+  if (!admitted) return admitted.error();
+  std::shared_ptr<Job> job = *admitted;
+  job->study = std::move(study);
+  std::shared_ptr<hlod::CameraPath> shared = *path;
+  leastBusyRunner()->post([job, shared](renderer::GlContext& gl) {
+    if (job->cancel) {
+      job->setState(JobState::Cancelled);
+      return;
+    }
+    job->setState(JobState::Running);
+    const nlohmann::json described = job->json()["settings"];
+    auto report = service::runStudy(
+        job->scene->store, *shared, job->study, job->dir, described,
+        [&](const std::string& what, double fraction) { job->setProgress(fraction, what); },
+        &job->cancel, &gl);
+    if (report)
+      job->setState(JobState::Done);
+    else
+      job->setState(job->cancel ? JobState::Cancelled : JobState::Failed, report.message());
   });
   trimFinished();
   return job->json();

@@ -21,6 +21,7 @@
 #include "server/Metrics.h"
 #include "server/RenderWorker.h"
 #include "server/SceneRegistry.h"
+#include "service/Study.h"
 
 namespace service::server {
 
@@ -45,6 +46,7 @@ const char* jobStateName(JobState s);
 
 class Job {
  public:
+  std::string kind = "path";  // "path" or "study"
   std::string id;
   std::shared_ptr<Scene> scene;
   JobSettings settings;
@@ -73,6 +75,10 @@ class Job {
   // The runner's side.
   void setState(JobState s, const std::string& error = "");
   void addFrame(const hlod::FrameRecord& r);
+  // Studies: how far along (0..1) and what they do now.
+  void setProgress(double fraction, const std::string& what);
+  std::filesystem::path reportFile(const std::string& name) const;  // empty: no such file
+  StudyOptions study;
 
  private:
   mutable std::mutex mutex_;
@@ -81,6 +87,8 @@ class Job {
   std::string error_;
   std::vector<hlod::FrameRecord> records_;
   std::vector<std::string> frameJson_;
+  double progress_ = 0.0;
+  std::string doing_;
 };
 
 class JobManager {
@@ -90,6 +98,9 @@ class JobManager {
   ~JobManager();
   // Parses nothing: settings are validated by the API; the path is made here (for the scene).
   ApiResult<nlohmann::json> submit(const std::shared_ptr<Scene>& scene, JobSettings settings);
+  // An accuracy study of the scene along the path (hlodr study), as a job of kind "study".
+  ApiResult<nlohmann::json> submitStudy(const std::shared_ptr<Scene>& scene, JobSettings path,
+                                        StudyOptions study);
   std::vector<std::shared_ptr<Job>> list() const;  // newest first
   std::shared_ptr<Job> find(const std::string& id) const;
   // Cancels a queued or running job (true); removes a finished one with its files (false).
@@ -102,6 +113,10 @@ class JobManager {
   void runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
                   renderer::GlContext& context);
   void trimFinished();
+  ApiResult<std::shared_ptr<Job>> admitJob(const std::shared_ptr<Scene>& scene, JobSettings s,
+                                           const std::string& kind);
+  ApiResult<std::shared_ptr<hlod::CameraPath>> pathOf(const Scene& scene, const JobSettings& s);
+  RenderWorker* leastBusyRunner() const;
 
   std::vector<RenderWorker*> runners_;
   SceneRegistry& scenes_;
