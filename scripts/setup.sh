@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hlodr needs to build, test and run, skipping those already there.
 # Runs as root (or through sudo when available). Safe to run again.
+#   scripts/setup.sh                      everything (build, run, tests)
+#   scripts/setup.sh --build-only         what building and running need
+#   scripts/setup.sh --runtime-packages BINARY   prints the packages a runtime image needs
 set -euo pipefail
 
 packages=(
@@ -10,21 +13,34 @@ packages=(
   libtinygltf-dev libstb-dev nlohmann-json3-dev libcpp-httplib-dev libdeflate-dev libturbojpeg0-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6 libosmesa6-dev
   ffmpeg
-  prometheus wrk curl
-  chromium
 )
-# The browser test (tests/web) needs node and npm. Debian's npm conflicts with a Node that was
-# installed another way, so both come from Debian only when there is no npm at all.
-command -v npm >/dev/null || packages+=(nodejs npm)
+# What only the tests and benchmarks use (skipped by --build-only, as the image's build stage
+# does): promtool, the load generator, the browser. The browser test needs node and npm too;
+# Debian's npm conflicts with a Node installed another way, so both come from Debian only when
+# there is no npm at all.
+if [ "${1:-}" != "--build-only" ]; then
+  packages+=(prometheus wrk curl chromium)
+  command -v npm >/dev/null || packages+=(nodejs npm)
+fi
 
 # --runtime-packages BINARY: the Debian packages that hold the libraries BINARY links (from ldd),
 # plus what hlodr opens at run time (Mesa's EGL and OSMesa drivers) or runs (ffmpeg): the list
 # of a runtime image.
 if [ "${1:-}" = "--runtime-packages" ]; then
   bin=${2:?usage: setup.sh --runtime-packages BINARY}
-  { ldd "$bin" | awk '/=> \//{print $3}' | xargs -r -n1 readlink -f | xargs -r dpkg -S 2>/dev/null \
-      | cut -d: -f1
-    printf '%s\n' libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6 ffmpeg; } | sort -u | tr '\n' ' '
+  {
+    for lib in $(ldd "$bin" | awk '/=> \//{print $3}'); do
+      real=$(readlink -f "$lib")
+      pkg=""
+      # Debian 12 merges /lib into /usr/lib: dpkg knows a library under one of the two names.
+      for p in "$lib" "$real" "${real#/usr}" "/usr$lib"; do
+        pkg=$(dpkg -S "$p" 2>/dev/null | head -n1 | cut -d: -f1) || true
+        [ -n "$pkg" ] && break
+      done
+      if [ -n "$pkg" ]; then echo "$pkg"; else echo "setup: no package holds $lib" >&2; fi
+    done
+    printf '%s\n' libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6 ffmpeg
+  } | sort -u | tr '\n' ' '
   echo
   exit 0
 fi

@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 
+#include "BenchCity.h"
 #include "hlod/City.h"
 #include "hlod/HlodBuilder.h"
 #include "hlod/NodeStore.h"
@@ -113,21 +114,12 @@ int main(int argc, char** argv) {
     }
   }
   if (store.empty()) {
-    const std::filesystem::path data = "walk_bench_data";
-    store = data / "city.hlod";
-    if (!std::filesystem::exists(store / "skeleton.bin")) {
-      std::fprintf(stderr, "building the default city's store under %s ...\n", data.c_str());
-      hlod::CityOptions city;
-      if (auto s = hlod::writeCity(data / "city", city); !s) {
-        std::fprintf(stderr, "%s\n", s.message().c_str());
-        return 1;
-      }
-      auto built = hlod::buildStoreFromCity(data / "city", store, hlod::BuildOptions{});
-      if (!built) {
-        std::fprintf(stderr, "%s\n", built.message().c_str());
-        return 1;
-      }
+    auto made = bench::defaultCityStore("walk_bench_data");
+    if (!made) {
+      std::fprintf(stderr, "%s\n", made.message().c_str());
+      return 1;
     }
+    store = *made;
   }
   auto skeleton = hlod::NodeStore::open(store);
   if (!skeleton) {

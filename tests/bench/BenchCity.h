@@ -1,0 +1,23 @@
+#pragma once
+// The default city's node store for the benchmarks, built once into a folder beside where the
+// benchmark runs (or the store given on the command line).
+#include <cstdio>
+#include <filesystem>
+
+#include "hlod/City.h"
+#include "hlod/HlodBuilder.h"
+#include "hlod/Result.h"
+
+namespace bench {
+
+inline hlod::Result<std::filesystem::path> defaultCityStore(const std::filesystem::path& data) {
+  const std::filesystem::path store = data / "city.hlod";
+  if (std::filesystem::exists(store / "skeleton.bin")) return store;
+  std::fprintf(stderr, "building the default city's store under %s ...\n", data.c_str());
+  if (auto s = hlod::writeCity(data / "city", hlod::CityOptions{}); !s) return s.error();
+  auto built = hlod::buildStoreFromCity(data / "city", store, hlod::BuildOptions{});
+  if (!built) return built.error();
+  return store;
+}
+
+}  // namespace bench
