@@ -439,6 +439,7 @@ bool Loader::step() {
   // Only step() changes partials_, and steps are serialised: `part` stays valid unlocked.
   if (len > 0) {
     throttle(node, offset, len);
+    if (stopRequested()) return false;  // the transfer was cut short: nothing was read
     Status s = source_.readPayloadChunk(node, offset,
                                         std::span<std::byte>(part->bytes.data() + offset, len));
     std::lock_guard lock(mutex_);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "hlod/Plots.h"
 
@@ -13,7 +14,10 @@ Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
                               const std::atomic<bool>* cancel, const FrameCallback& onFrame) {
   if (!(options.fps > 0.0) || options.fps > 1000.0) return makeError("fps must be in (0, 1000]");
   // Counted before anything is allocated: a path of 1e300 s is an Error, not a size_t overflow.
-  auto all = path.frameCount(options.fps);
+  // With --frames, the path may be longer than the frame limit: only the first ones are drawn.
+  auto all = path.frameCount(options.fps, options.maxFrames >= 0
+                                              ? std::numeric_limits<std::uint64_t>::max()
+                                              : kMaxPathFrames);
   if (!all) return all.error();
   PathRunResult result;
   result.framesTotal = *all;
