@@ -97,4 +97,8 @@ export const api = {
   deleteJob: (id) => json('DELETE', `/api/jobs/${encodeURIComponent(id)}`),
   jobFrame: (id, n) => frame('GET', `/api/jobs/${encodeURIComponent(id)}/frames/${n}`),
   jobEventsUrl: (id) => `/api/jobs/${encodeURIComponent(id)}/events`,
+
+  studies: () => json('GET', '/api/studies').then((r) => r.studies),
+  createStudy: (body) => json('POST', '/api/studies', body),
+  deleteStudy: (id) => json('DELETE', `/api/studies/${encodeURIComponent(id)}`),
 };

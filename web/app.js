@@ -8,6 +8,7 @@ import { formatCount } from './dom.js';
 import { ErrorBar } from './errors.js';
 import { JobsList } from './jobs.js';
 import { JobView } from './jobview.js';
+import { StudiesPanel } from './studies.js';
 import { Viewer } from './viewer.js';
 
 const $ = (selector) => document.querySelector(selector);
@@ -203,6 +204,13 @@ window.hlodrDebug = Object.freeze({
   errors: () => errors.messages(),
 });
 
+const studies = new StudiesPanel($('#study'), $('#studies'), {
+  scene: () => scene,
+  onError,
+  onRecovered,
+});
+
 showHealth();
 loadScenes();
 jobsList.refresh();
+studies.refresh();

@@ -346,6 +346,33 @@ test('a running job can be cancelled from the jobs list', async () => {
   await shot('6-job-cancelled');
 });
 
+test('an accuracy study runs from the page and its report opens', async () => {
+  const form = page.locator('#study');
+  await form.locator('[name="study-frames"]').fill('2');
+  await form.locator('[name="study-budgets"]').fill('16, 33');
+  await form.locator('[name="study-sse-px"]').fill('8');
+  await form.locator('[name="use-fs"]').uncheck();
+  await form.locator('[name="start-study"]').click();
+  const done = page.locator('#studies tr[data-state="done"]');
+  await done.waitFor({ timeout: 180000 });
+  const href = await done.locator('a').first().getAttribute('href');
+  assert.match(href, /^\/api\/studies\/[a-z0-9]+\/report\/index\.html$/);
+  const report = await page.evaluate(async (url) => {
+    const r = await fetch(url);
+    const json = await (await fetch(url.replace('index.html', 'study.json'))).json();
+    return { status: r.status, html: await r.text(), runs: json.runs.length };
+  }, href);
+  assert.equal(report.status, 200);
+  assert.match(report.html, /What accuracy costs in time/);
+  assert.equal(report.runs, 3, 'lakhia at 16 and 33 ms, sse at 8 px');
+  await shot('7-study-done');
+  const reportPage = await context.newPage();
+  await reportPage.goto(new URL(href, page.url()).href);
+  await reportPage.waitForLoadState('load');
+  await reportPage.screenshot({ path: path.join(SHOTS, '8-study-report.png'), fullPage: true });
+  await reportPage.close();
+});
+
 test('the page uses nothing but its own server, and the vendored uPlot is the npm package', () => {
   assert.deepEqual(offOrigin, []);
   for (const [vendored, installed] of [
