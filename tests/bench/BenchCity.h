@@ -10,7 +10,10 @@
 
 namespace bench {
 
-inline hlod::Result<std::filesystem::path> defaultCityStore(const std::filesystem::path& data) {
+// The store given, or the default city's under data/ (built the first time).
+inline hlod::Result<std::filesystem::path> storeOrDefaultCity(const std::filesystem::path& given,
+                                                              const std::filesystem::path& data) {
+  if (!given.empty()) return given;
   const std::filesystem::path store = data / "city.hlod";
   if (std::filesystem::exists(store / "skeleton.bin")) return store;
   std::fprintf(stderr, "building the default city's store under %s ...\n", data.c_str());

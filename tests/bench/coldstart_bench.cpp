@@ -34,14 +34,12 @@ int main(int argc, char** argv) {
       store = a;
     }
   }
-  if (store.empty()) {
-    auto made = bench::defaultCityStore("walk_bench_data");
-    if (!made) {
-      std::fprintf(stderr, "%s\n", made.message().c_str());
-      return 1;
-    }
-    store = *made;
+  auto made = bench::storeOrDefaultCity(store, "walk_bench_data");
+  if (!made) {
+    std::fprintf(stderr, "%s\n", made.message().c_str());
+    return 1;
   }
+  store = *made;
   auto opened = hlod::NodeStore::open(store);
   if (!opened) {
     std::fprintf(stderr, "%s\n", opened.message().c_str());

@@ -113,14 +113,12 @@ int main(int argc, char** argv) {
       store = a;
     }
   }
-  if (store.empty()) {
-    auto made = bench::defaultCityStore("walk_bench_data");
-    if (!made) {
-      std::fprintf(stderr, "%s\n", made.message().c_str());
-      return 1;
-    }
-    store = *made;
+  auto made = bench::storeOrDefaultCity(store, "walk_bench_data");
+  if (!made) {
+    std::fprintf(stderr, "%s\n", made.message().c_str());
+    return 1;
   }
+  store = *made;
   auto skeleton = hlod::NodeStore::open(store);
   if (!skeleton) {
     std::fprintf(stderr, "%s\n", skeleton.message().c_str());

@@ -82,14 +82,47 @@ bool admit(ApiContext& api, Response& res) {
   return true;
 }
 
-std::shared_ptr<Job> pathJob(ApiContext& api, const std::string& id) {
+std::shared_ptr<Job> jobOfKind(ApiContext& api, const std::string& id, const std::string& kind) {
   auto job = api.jobs.find(id);
-  return job && job->kind == "path" ? job : nullptr;
+  return job && job->kind == kind ? job : nullptr;
+}
+
+std::shared_ptr<Job> pathJob(ApiContext& api, const std::string& id) {
+  return jobOfKind(api, id, "path");
 }
 
 std::shared_ptr<Job> studyJob(ApiContext& api, const std::string& id) {
-  auto job = api.jobs.find(id);
-  return job && job->kind == "study" ? job : nullptr;
+  return jobOfKind(api, id, "study");
+}
+
+// GET /api/COLLECTION, GET and DELETE /api/COLLECTION/{id} for the jobs of one kind: a DELETE
+// cancels a queued or running one (200, its object) or removes a finished one (204).
+void jobRoutes(httplib::Server& http, ApiContext& api, const std::string& collection,
+               const std::string& kind, const std::string& noun) {
+  http.Get("/api/" + collection, [&api, collection, kind](const Request&, Response& res) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& j : api.jobs.list())
+      if (j->kind == kind) list.push_back(j->json());
+    sendJson(res, 200, {{collection, list}});
+  });
+  const std::string one = "/api/" + collection + "/([^/]+)";
+  http.Get(one, [&api, kind, noun](const Request& req, Response& res) {
+    auto job = jobOfKind(api, req.matches[1], kind);
+    if (!job) return sendError(res, notFound("no " + noun + " " + std::string(req.matches[1])));
+    sendJson(res, 200, job->json());
+  });
+  http.Delete(one, [&api, kind, noun](const Request& req, Response& res) {
+    if (!jobOfKind(api, req.matches[1], kind))
+      return sendError(res, notFound("no " + noun + " " + std::string(req.matches[1])));
+    auto r = api.jobs.cancelOrRemove(req.matches[1]);
+    if (!r) return sendError(res, r.error());
+    if (*r) {
+      auto job = api.jobs.find(req.matches[1]);
+      sendJson(res, 200, job ? job->json() : nlohmann::json::object());
+    } else {
+      res.status = 204;
+    }
+  });
 }
 
 // A list of numbers in a range (the study's budgets, thresholds).
@@ -279,29 +312,7 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     sendJson(res, 202, *job);
   });
 
-  http.Get("/api/jobs", [&](const Request&, Response& res) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const auto& j : api.jobs.list())
-      if (j->kind == "path") list.push_back(j->json());
-    sendJson(res, 200, {{"jobs", list}});
-  });
-
-  http.Get(R"(/api/jobs/([^/]+))", [&](const Request& req, Response& res) {
-    auto job = pathJob(api, req.matches[1]);
-    if (!job) return sendError(res, notFound("no job " + std::string(req.matches[1])));
-    sendJson(res, 200, job->json());
-  });
-
-  http.Delete(R"(/api/jobs/([^/]+))", [&](const Request& req, Response& res) {
-    auto r = api.jobs.cancelOrRemove(req.matches[1]);
-    if (!r) return sendError(res, r.error());
-    if (*r) {
-      auto job = api.jobs.find(req.matches[1]);
-      sendJson(res, 200, job ? job->json() : nlohmann::json::object());
-    } else {
-      res.status = 204;
-    }
-  });
+  jobRoutes(http, api, "jobs", "path", "job");
 
   http.Get(R"(/api/jobs/([^/]+)/frames/(\d{1,9}))", [&](const Request& req, Response& res) {
     auto job = pathJob(api, req.matches[1]);
@@ -449,31 +460,7 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     sendJson(res, 202, *job);
   });
 
-  http.Get("/api/studies", [&](const Request&, Response& res) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const auto& j : api.jobs.list())
-      if (j->kind == "study") list.push_back(j->json());
-    sendJson(res, 200, {{"studies", list}});
-  });
-
-  http.Get(R"(/api/studies/([^/]+))", [&](const Request& req, Response& res) {
-    auto job = studyJob(api, req.matches[1]);
-    if (!job) return sendError(res, notFound("no study " + std::string(req.matches[1])));
-    sendJson(res, 200, job->json());
-  });
-
-  http.Delete(R"(/api/studies/([^/]+))", [&](const Request& req, Response& res) {
-    if (!studyJob(api, req.matches[1]))
-      return sendError(res, notFound("no study " + std::string(req.matches[1])));
-    auto r = api.jobs.cancelOrRemove(req.matches[1]);
-    if (!r) return sendError(res, r.error());
-    if (*r) {
-      auto job = api.jobs.find(req.matches[1]);
-      sendJson(res, 200, job ? job->json() : nlohmann::json::object());
-    } else {
-      res.status = 204;
-    }
-  });
+  jobRoutes(http, api, "studies", "study", "study");
 
   http.Get(R"(/api/studies/([^/]+)/report/([^/]+))", [&](const Request& req, Response& res) {
     auto job = studyJob(api, req.matches[1]);
