@@ -7,6 +7,8 @@
 #include <GL/osmesa.h>
 #include <dlfcn.h>
 
+#include <mutex>
+
 namespace renderer {
 namespace {
 
@@ -18,12 +20,13 @@ struct OsMesaApi {
   decltype(&OSMesaGetProcAddress) getProcAddress = nullptr;
 };
 
+// libOSMesa is opened once for the process (std::call_once: the server's render workers create
+// their contexts on threads of their own, at the same time).
 hlod::Result<const OsMesaApi*> osMesaApi() {
   static OsMesaApi api;
   static std::string error;
-  static bool tried = false;
-  if (!tried) {
-    tried = true;
+  static std::once_flag once;
+  std::call_once(once, [] {
     for (const char* name : {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"}) {
       // RTLD_LOCAL keeps OSMesa's gl* symbols out of the global namespace.
       if ((api.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
@@ -43,7 +46,7 @@ hlod::Result<const OsMesaApi*> osMesaApi() {
           !api.getProcAddress)
         error = "libOSMesa lacks OSMesaCreateContextAttribs (Mesa too old)";
     }
-  }
+  });
   if (!error.empty()) return hlod::makeError(error);
   return &api;
 }
