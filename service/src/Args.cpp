@@ -22,7 +22,9 @@ hlod::Result<Args> Args::parse(const std::vector<std::string>& argv,
       }
       if (flags.count(name)) {
         if (inlineValue) return hlod::makeError("option --" + name + " takes no value");
-        args.values_[name] = "1";
+        // Moved in rather than assigned from "1": g++ 12 at -O3 reports a false -Wrestrict
+        // overlap in std::string's assignment from a literal (GCC bug 105329).
+        args.values_.insert_or_assign(name, std::string("1"));
       } else if (options.count(name)) {
         if (!inlineValue) {
           if (i + 1 >= argv.size()) return hlod::makeError("option --" + name + " needs a value");
