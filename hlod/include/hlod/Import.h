@@ -2,12 +2,26 @@
 // Mesh import: OBJ (+MTL, textures), PLY (ascii/binary, float/double), OFF, STL (ascii/binary),
 // glTF 2.0 (.gltf/.glb, base-colour textures). Every failure is an Error naming the file and the
 // problem (truncated, bad index, NaN coordinate, empty, unknown format); never a crash.
+#include <cstdint>
 #include <filesystem>
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
 
 namespace hlod {
+
+// What a glTF scene may expand to: a node listed as the child of several parents is repeated
+// under each, so a 1 KB file can name 2^40 instances. Past these bounds the import is an Error
+// naming the bound, not an out-of-memory kill. Node instances: every node, once per path from a
+// scene root to it. Scene elements: vertices (and, separately, triangles) of all mesh instances
+// together, and the count of an accessor without a buffer view (one that no file bytes back).
+inline constexpr std::uint64_t kMaxGltfNodeInstances = 1'000'000;
+inline constexpr std::uint64_t kMaxGltfSceneElements = 100'000'000;
+
+// The largest coordinate magnitude importModel accepts. Nodes store vertices in float relative
+// to their centre, and a difference of two coordinates within this bound still fits a float
+// (half of FLT_MAX); beyond it a build would write a store that reads back as corrupt.
+inline constexpr double kMaxCoordinate = 1.7e38;
 
 // True when the extension is one importModel understands.
 bool isMeshFile(const std::filesystem::path& path);

@@ -8,6 +8,7 @@
 
 #include "hlod/City.h"
 #include "hlod/Import.h"
+#include "hlod/import/InsideFolder.h"
 
 namespace hlod {
 
@@ -16,7 +17,7 @@ using nlohmann::json;
 
 namespace {
 
-// A file named by the manifest: relative, no "..", no root, so it stays inside the folder.
+// A file named by the manifest: relative, no "..", no root, no link out of the folder.
 Result<fs::path> insidePath(const fs::path& dir, const std::string& where, const json& v,
                             bool required) {
   if (!v.is_string()) return makeError(where + " is not a string");
@@ -33,6 +34,10 @@ Result<fs::path> insidePath(const fs::path& dir, const std::string& where, const
   for (const auto& part : p)
     if (part == "..")
       return makeError(where + " '" + s + "' escapes the city folder " + dir.string());
+  // Lexically inside (no ".." at all, so dir / p opens what insideFolder checked); a symbolic
+  // link may still lead out.
+  if (auto resolved = insideFolder(dir, s); !resolved)
+    return makeError(where + ": " + resolved.message());
   const fs::path full = dir / p;
   std::error_code ec;
   if (!fs::is_regular_file(full, ec))

@@ -2,22 +2,121 @@
 // transforms in double precision; every triangle primitive becomes one Mesh with its base colour
 // and base-colour texture. Accessor bounds are checked here as tinygltf does not check them all.
 //
+// Hostile files: tinygltf parses JSON recursively, so nesting depth is bounded before it parses;
+// its file access goes through callbacks that read only inside the model's folder (no "~" or
+// $VAR expansion, no fall-back to the current directory); the scene walk keeps its own stack and
+// bounds what instancing expands to (kMaxGltfNodeInstances, kMaxGltfSceneElements).
+//
 // This is the one translation unit that compiles the tinygltf and stb implementations.
 #define TINYGLTF_IMPLEMENTATION
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <tiny_gltf.h>
 
+#include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "hlod/Import.h"
+#include "hlod/import/InsideFolder.h"
 #include "import/ImportUtil.h"
 
 namespace hlod::import {
 namespace {
+
+// Arrays and objects nested deeper than this are refused before tinygltf parses them (it
+// recurses per level and overflowed the stack at 20,000). glTF itself nests about 6 deep.
+constexpr std::size_t kMaxGltfJsonDepth = 128;
+
+// The deepest nesting of arrays and objects in JSON text, strings skipped; stops counting once
+// past `limit`.
+std::size_t jsonDepth(const char* text, std::size_t size, std::size_t limit) {
+  std::size_t depth = 0, deepest = 0;
+  bool inString = false;
+  for (std::size_t i = 0; i < size; ++i) {
+    const char c = text[i];
+    if (inString) {
+      if (c == '\\')
+        ++i;  // the escaped character cannot end the string
+      else if (c == '"')
+        inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+      if (deepest > limit) return deepest;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+// The JSON chunk of a GLB (header, then chunk 0 of type JSON); null when the header is not one,
+// which tinygltf then reports.
+const char* glbJson(const std::string& bytes, std::size_t& size) {
+  if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0 ||
+      std::memcmp(bytes.data() + 16, "JSON", 4) != 0)
+    return nullptr;
+  const auto length = loadScalar<std::uint32_t>(bytes.data() + 12, false);
+  if (length > bytes.size() - 20) return nullptr;
+  size = length;
+  return bytes.data() + 20;
+}
+
+// tinygltf's file access, confined to the model's folder. tinygltf looks a URI up as
+// JoinPath(baseDir, uri), then as "./uri" in the current directory: only the first is answered,
+// and only when insideFolder accepts the URI. Refusals are kept to be reported by name.
+struct ConfinedFiles {
+  std::filesystem::path folder;  // the model's folder, as the user named it
+  std::string baseDir;           // its canonical form, given to tinygltf (no '/' at the end)
+  std::vector<std::string> refused;
+
+  // The file a path from tinygltf names, or empty when it is not to be touched.
+  std::filesystem::path resolve(const std::string& joined) {
+    const std::string prefix = baseDir + "/";
+    if (joined.compare(0, prefix.size(), prefix) != 0) return {};  // the current-directory try
+    const std::string reference = joined.substr(prefix.size());
+    auto inside = insideFolder(folder, reference);
+    if (inside) return *inside;
+    if (std::find(refused.begin(), refused.end(), inside.message()) == refused.end())
+      refused.push_back(inside.message());
+    return {};
+  }
+
+  static ConfinedFiles& of(void* user) { return *static_cast<ConfinedFiles*>(user); }
+  static std::string expand(const std::string& path, void*) { return path; }
+  static bool exists(const std::string& path, void* user) {
+    const std::filesystem::path p = of(user).resolve(path);
+    std::error_code ec;
+    return !p.empty() && std::filesystem::is_regular_file(p, ec);
+  }
+  static bool read(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                   void* user) {
+    const std::filesystem::path p = of(user).resolve(path);
+    if (p.empty()) {
+      if (err) *err = "not inside the model's folder";
+      return false;
+    }
+    auto bytes = readWholeFile(p);
+    if (!bytes) {
+      if (err) *err = bytes.message();
+      return false;
+    }
+    out->assign(bytes->begin(), bytes->end());
+    return true;
+  }
+  static bool write(std::string* err, const std::string&, const std::vector<unsigned char>&,
+                    void*) {
+    if (err) *err = "hlodr never writes glTF files";
+    return false;
+  }
+};
 
 // A checked view of an accessor's elements.
 struct AccessorView {
@@ -63,20 +162,23 @@ struct AccessorView {
 class GltfWalker {
  public:
   GltfWalker(const std::filesystem::path& path, const tinygltf::Model& gltf)
-      : path_(path), gltf_(gltf), images_(gltf.images.size()), imageDone_(gltf.images.size()) {}
+      : path_(path),
+        gltf_(gltf),
+        images_(gltf.images.size()),
+        imageDone_(gltf.images.size()),
+        onPath_(gltf.nodes.size()) {}
 
   Result<Model> run() {
     int sceneIndex = gltf_.defaultScene >= 0 ? gltf_.defaultScene : 0;
     if (gltf_.scenes.empty()) {
       // No scene: show every mesh once, untransformed, rather than nothing.
       for (std::size_t m = 0; m < gltf_.meshes.size(); ++m)
-        if (auto s = addMesh(static_cast<int>(m), glm::dmat4(1.0)); !s.ok()) return s.error();
+        if (auto s = instance(static_cast<int>(m), glm::dmat4(1.0)); !s.ok()) return s.error();
     } else {
       if (sceneIndex >= static_cast<int>(gltf_.scenes.size()))
         return fileError(path_, "default scene " + std::to_string(sceneIndex) + " does not exist");
-      std::vector<bool> onPath(gltf_.nodes.size(), false);
       for (int node : gltf_.scenes[static_cast<std::size_t>(sceneIndex)].nodes)
-        if (auto s = walk(node, glm::dmat4(1.0), onPath); !s.ok()) return s.error();
+        if (auto s = walk(node); !s.ok()) return s.error();
     }
     return std::move(model_);
   }
@@ -93,20 +195,87 @@ class GltfWalker {
     return m;
   }
 
-  Status walk(int nodeIndex, const glm::dmat4& parent, std::vector<bool>& onPath) {
-    if (nodeIndex < 0 || nodeIndex >= static_cast<int>(gltf_.nodes.size()))
-      return fileError(path_, "node index " + std::to_string(nodeIndex) + " out of range");
-    if (onPath[static_cast<std::size_t>(nodeIndex)])
-      return fileError(path_, "node hierarchy has a cycle at node " + std::to_string(nodeIndex));
-    onPath[static_cast<std::size_t>(nodeIndex)] = true;
-    const tinygltf::Node& node = gltf_.nodes[static_cast<std::size_t>(nodeIndex)];
-    const glm::dmat4 world = parent * localTransform(node);
-    if (node.mesh >= 0)
-      if (auto s = addMesh(node.mesh, world); !s.ok()) return s;
-    for (int child : node.children)
-      if (auto s = walk(child, world, onPath); !s.ok()) return s;
-    onPath[static_cast<std::size_t>(nodeIndex)] = false;
+  // Depth-first, parents before children as the file lists them, on an explicit stack: a chain
+  // of 20,000 nodes overflowed the call stack. The glTF spec forbids cycles and shared
+  // children, which a forged file has anyway: a cycle is refused, and sharing is bounded by
+  // the count of node instances (40 nodes that each list the next one twice expand to 2^40).
+  Status walk(int rootIndex) {
+    struct Frame {
+      int node;
+      glm::dmat4 world;
+      std::size_t nextChild = 0;
+    };
+    std::vector<Frame> stack;
+    auto enter = [&](int nodeIndex, const glm::dmat4& parent) -> Status {
+      if (nodeIndex < 0 || nodeIndex >= static_cast<int>(gltf_.nodes.size()))
+        return fileError(path_, "node index " + std::to_string(nodeIndex) + " out of range");
+      const auto n = static_cast<std::size_t>(nodeIndex);
+      if (onPath_[n])
+        return fileError(path_, "node hierarchy has a cycle at node " + std::to_string(nodeIndex));
+      if (++nodeInstances_ > kMaxGltfNodeInstances)
+        return fileError(path_, "the scene expands to more than " +
+                                    std::to_string(kMaxGltfNodeInstances) +
+                                    " node instances (nodes listed as children of several "
+                                    "parents are repeated under each)");
+      onPath_[n] = true;
+      const tinygltf::Node& node = gltf_.nodes[n];
+      stack.push_back({nodeIndex, parent * localTransform(node)});
+      if (node.mesh >= 0) return instance(node.mesh, stack.back().world);
+      return Ok{};
+    };
+    if (auto s = enter(rootIndex, glm::dmat4(1.0)); !s.ok()) return s;
+    while (!stack.empty()) {
+      Frame& top = stack.back();
+      assert(top.node >= 0 && static_cast<std::size_t>(top.node) < gltf_.nodes.size());  // enter()
+      const auto& children = gltf_.nodes[static_cast<std::size_t>(top.node)].children;
+      if (top.nextChild < children.size()) {
+        const int child = children[top.nextChild++];
+        const glm::dmat4 world = top.world;  // enter() may move the stack
+        if (auto s = enter(child, world); !s.ok()) return s;
+      } else {
+        onPath_[static_cast<std::size_t>(top.node)] = false;
+        stack.pop_back();
+      }
+    }
     return Ok{};
+  }
+
+  // The vertices and triangles a mesh's triangle primitives claim, from the accessor counts
+  // alone (the accessors are checked when the mesh is read).
+  std::pair<std::uint64_t, std::uint64_t> claimedSize(int meshIndex) const {
+    std::uint64_t vertices = 0, triangles = 0;
+    if (meshIndex < 0 || meshIndex >= static_cast<int>(gltf_.meshes.size())) return {0, 0};
+    auto count = [&](int accessorIndex) -> std::uint64_t {
+      if (accessorIndex < 0 || accessorIndex >= static_cast<int>(gltf_.accessors.size())) return 0;
+      return gltf_.accessors[static_cast<std::size_t>(accessorIndex)].count;
+    };
+    for (const auto& prim : gltf_.meshes[static_cast<std::size_t>(meshIndex)].primitives) {
+      const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      auto pos = prim.attributes.find("POSITION");
+      const std::uint64_t n = pos == prim.attributes.end() ? 0 : count(pos->second);
+      const std::uint64_t corners = prim.indices >= 0 ? count(prim.indices) : n;
+      if (mode == TINYGLTF_MODE_TRIANGLES)
+        triangles += corners / 3;
+      else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP || mode == TINYGLTF_MODE_TRIANGLE_FAN)
+        triangles += corners > 2 ? corners - 2 : 0;
+      else
+        continue;
+      vertices += n;
+    }
+    return {vertices, triangles};
+  }
+
+  // One instance of a mesh: bounded before anything is allocated for it.
+  Status instance(int meshIndex, const glm::dmat4& world) {
+    const auto [vertices, triangles] = claimedSize(meshIndex);
+    instancedVertices_ += vertices;
+    instancedTriangles_ += triangles;
+    if (instancedVertices_ > kMaxGltfSceneElements || instancedTriangles_ > kMaxGltfSceneElements)
+      return fileError(path_, "the scene's mesh instances hold more than " +
+                                  std::to_string(kMaxGltfSceneElements) +
+                                  " vertices or triangles in all (at mesh " +
+                                  std::to_string(meshIndex) + ")");
+    return addMesh(meshIndex, world);
   }
 
   Result<AccessorView> accessor(int index, const std::string& what) {
@@ -124,7 +293,14 @@ class GltfWalker {
     if (v.components <= 0 || componentSize <= 0)
       return fileError(path_, what + ": bad accessor type");
     const std::size_t elementSize = static_cast<std::size_t>(v.components) * componentSize;
-    if (a.bufferView < 0) return v;  // all zeros by the spec
+    if (a.bufferView < 0) {
+      // All zeros by the spec: no bytes of the file back the count, so bound it here.
+      if (v.count > kMaxGltfSceneElements)
+        return fileError(path_, what + ": accessor without a buffer view claims " +
+                                    std::to_string(v.count) + " elements (at most " +
+                                    std::to_string(kMaxGltfSceneElements) + ")");
+      return v;
+    }
     if (a.bufferView >= static_cast<int>(gltf_.bufferViews.size()))
       return fileError(path_, what + ": buffer view out of range");
     const tinygltf::BufferView& bv = gltf_.bufferViews[static_cast<std::size_t>(a.bufferView)];
@@ -307,26 +483,56 @@ class GltfWalker {
   const tinygltf::Model& gltf_;
   std::vector<std::shared_ptr<const Image>> images_;
   std::vector<bool> imageDone_;
+  std::vector<bool> onPath_;  // nodes on the walk's current path: a repeat is a cycle
+  std::uint64_t nodeInstances_ = 0;
+  std::uint64_t instancedVertices_ = 0;
+  std::uint64_t instancedTriangles_ = 0;
   Model model_;
 };
 
 }  // namespace
 
 Result<Model> readGltf(const std::filesystem::path& path, bool binary) {
+  auto bytes = readWholeFile(path);
+  if (!bytes) return bytes.error();
+  if (bytes->empty()) return fileError(path, "file is empty");
+  if (bytes->size() > 0xffffffffu) return fileError(path, "file larger than 4 GB");
+  std::size_t jsonSize = bytes->size();
+  const char* json = binary ? glbJson(*bytes, jsonSize) : bytes->data();
+  if (json && jsonDepth(json, jsonSize, kMaxGltfJsonDepth) > kMaxGltfJsonDepth)
+    return fileError(path,
+                     "JSON nested deeper than " + std::to_string(kMaxGltfJsonDepth) + " levels");
+
+  ConfinedFiles files;
+  files.folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  std::error_code ec;
+  files.baseDir = std::filesystem::canonical(files.folder, ec).string();
+  if (ec) return fileError(path, "cannot resolve the file's folder");
+  if (files.baseDir.size() > 1 && files.baseDir.back() == '/') files.baseDir.pop_back();
   tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks({&ConfinedFiles::exists, &ConfinedFiles::expand, &ConfinedFiles::read,
+                         &ConfinedFiles::write, &files});
   tinygltf::Model gltf;
   std::string err, warning;
-  const bool ok = binary ? loader.LoadBinaryFromFile(&gltf, &err, &warning, path.string())
-                         : loader.LoadASCIIFromFile(&gltf, &err, &warning, path.string());
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes->data());
+  const auto size = static_cast<unsigned int>(bytes->size());
+  const bool ok =
+      binary
+          ? loader.LoadBinaryFromMemory(&gltf, &err, &warning, data, size, files.baseDir)
+          : loader.LoadASCIIFromString(&gltf, &err, &warning, bytes->data(), size, files.baseDir);
+  bytes = std::string();  // tinygltf holds its own copies now
   auto trim = [](std::string s) {
     while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
     for (char& c : s)
       if (c == '\n') c = ';';
     return s;
   };
+  // A refused reference explains a failure better than tinygltf's "file not found".
   if (!ok)
-    return fileError(
-        path, "cannot load glTF: " + (err.empty() ? std::string("unknown error") : trim(err)));
+    return fileError(path, "cannot load glTF: " + (!files.refused.empty() ? files.refused.front()
+                                                   : err.empty() ? std::string("unknown error")
+                                                                 : trim(err)));
+  for (const auto& refused : files.refused) warn(path, refused + "; not read");
   if (!warning.empty()) warn(path, trim(warning));
   return GltfWalker(path, gltf).run();
 }

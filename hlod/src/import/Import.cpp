@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "hlod/import/InsideFolder.h"
 #include "import/ImportUtil.h"
 
 namespace hlod {
@@ -44,9 +45,12 @@ std::shared_ptr<const Image> TextureCache::load(const std::filesystem::path& mes
   std::string cleaned = name;
   // Files written on Windows use backslashes.
   std::replace(cleaned.begin(), cleaned.end(), '\\', '/');
-  std::filesystem::path p(cleaned);
-  if (p.is_relative()) p = meshFile.parent_path() / p;
-  p = p.lexically_normal();
+  auto inside = insideFolder(meshFile.parent_path(), cleaned);
+  if (!inside) {
+    warn(meshFile, "texture not loaded: " + inside.message());
+    return nullptr;
+  }
+  const std::filesystem::path& p = *inside;
   for (const auto& [q, img] : loaded_)
     if (q == p) return img;
   std::shared_ptr<const Image> image;
@@ -87,6 +91,11 @@ Status validate(const std::filesystem::path& path, Model& model) {
         return fileError(path, "vertex " + std::to_string(vertexBase + i) +
                                    " has a non-finite coordinate (" + fmt(p.x) + ", " + fmt(p.y) +
                                    ", " + fmt(p.z) + ")");
+      for (int c = 0; c < 3; ++c)
+        if (std::abs(p[c]) > kMaxCoordinate)
+          return fileError(path, "vertex " + std::to_string(vertexBase + i) + " has coordinate " +
+                                     fmt(p[c]) + ", beyond the range hlodr stores (at most " +
+                                     fmt(kMaxCoordinate) + " in magnitude)");
     }
     if (mesh.indices.size() % 3 != 0) return fileError(path, "index count is not a multiple of 3");
     for (std::uint32_t idx : mesh.indices)

@@ -1,9 +1,13 @@
 // OBJ reader: v, vt, vn and f with every index form (v, v/t, v//n, v/t/n, negative = relative to
 // the end), polygons fan-triangulated, one Mesh per material (usemtl), materials from mtllib (Kd,
-// d/Tr, map_Kd relative to the OBJ folder). Vertices are shared per (v, vt, vn) tuple.
+// d/Tr, map_Kd relative to the OBJ folder). Vertices are shared per (v, vt, vn) tuple. Material
+// libraries and textures are read only from inside the OBJ's folder.
+#include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <unordered_map>
 
+#include "hlod/import/InsideFolder.h"
 #include "import/ImportUtil.h"
 
 namespace hlod::import {
@@ -55,9 +59,15 @@ std::string textureName(std::string_view rest) {
   return std::string(scan.restOfLine());
 }
 
-void readMtl(const std::filesystem::path& objPath, const std::filesystem::path& mtlPath,
+void readMtl(const std::filesystem::path& objPath, std::string mtlName,
              std::unordered_map<std::string, Material>& out) {
-  auto bytes = readWholeFile(mtlPath);
+  std::replace(mtlName.begin(), mtlName.end(), '\\', '/');  // written on Windows
+  auto mtlPath = insideFolder(objPath.parent_path(), mtlName);
+  if (!mtlPath) {
+    warn(objPath, "material library not loaded: " + mtlPath.message());
+    return;
+  }
+  auto bytes = readWholeFile(*mtlPath);
   if (!bytes.ok()) {
     warn(objPath, "material library not loaded (" + bytes.message() + ")");
     return;
@@ -131,8 +141,7 @@ class ObjParser {
         useMaterial(std::string(scan_.restOfLine()));
         continue;
       } else if (key == "mtllib") {
-        std::string_view rest = scan_.restOfLine();
-        readMtl(path_, path_.parent_path() / std::string(rest), materials_);
+        readMtl(path_, std::string(scan_.restOfLine()), materials_);
         continue;
       }
       // Other statements (o, g, s, l, p, comments, ...) carry nothing we draw.
@@ -160,10 +169,11 @@ class ObjParser {
   }
 
   // Resolves an OBJ index (1-based, or negative from the end) to 0-based; -2 when invalid.
+  // Compared without negating: -LLONG_MIN does not exist.
   static std::int64_t resolve(long long idx, std::size_t count) {
-    if (idx > 0) return idx <= static_cast<long long>(count) ? idx - 1 : -2;
-    if (idx < 0)
-      return -idx <= static_cast<long long>(count) ? static_cast<long long>(count) + idx : -2;
+    const auto n = static_cast<long long>(count);  // count < 2^63: it counts vectors' elements
+    if (idx > 0) return idx <= n ? idx - 1 : -2;
+    if (idx < 0) return idx >= -n ? n + idx : -2;
     return -2;
   }
 
@@ -223,7 +233,11 @@ class ObjParser {
     return Ok{};
   }
 
+  // c's indices are resolved (face() refused the others).
   std::uint32_t vertexOf(const Corner& c) {
+    assert(c.v >= 0 && static_cast<std::size_t>(c.v) < positions_.size());
+    assert(c.t < static_cast<std::int64_t>(texCoords_.size()));
+    assert(c.n < static_cast<std::int64_t>(normals_.size()));
     Group& g = groups_[current_];
     auto [index, inserted] =
         g.corners.insert(c, static_cast<std::uint32_t>(g.mesh.positions.size()));

@@ -1,0 +1,102 @@
+// glTF scenes that once crashed or exhausted memory: a node chain 20,000 deep (stack overflow in
+// the recursive scene walk), JSON nested 20,000 deep (stack overflow in the parser), 40 nodes
+// that each list the next one twice (2^40 instances), an accessor without a buffer view whose
+// count no bytes back.
+// Each runs under a 4 GB address-space limit, so that a regression fails fast instead of
+// taking the machine's memory.
+#include <string>
+
+#include "HardcaseFolder.h"
+
+namespace {
+
+using hardcase::Folder;
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// The command runs under `ulimit -v` (KB) and a time limit.
+const std::string kLimits = "ulimit -v 4000000; timeout 120";
+
+class GltfSceneLimits : public Folder {
+ protected:
+  gltest::Run build(const json& gltf) {
+    write("quad.bin", hardcase::quadBuffer());
+    const fs::path file = write("scene.gltf", gltf.dump());
+    return gltest::runHlodr(
+        "build " + file.string() + " -o " + (dir / "s.hlod").string() + " --quiet", kLimits);
+  }
+  gltest::Run info() { return gltest::runHlodr("info " + (dir / "s.hlod").string() + " --json"); }
+};
+
+TEST_F(GltfSceneLimits, ANodeChainTwentyThousandDeepBuildsWithoutOverflowingTheStack) {
+  json g = hardcase::quadGltf();
+  constexpr int kDepth = 20000;
+  for (int i = 0; i + 1 < kDepth; ++i)
+    g["nodes"].push_back({{"children", {i + 1}}, {"translation", {0.0, 0.0, 1e-3}}});
+  g["nodes"].push_back({{"mesh", 0}});
+  const auto r = build(g);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto i = info();
+  ASSERT_EQ(i.status, 0) << i.output;
+  EXPECT_EQ(json::parse(i.output)["inputTriangles"], 2) << i.output;
+}
+
+TEST_F(GltfSceneLimits, JsonNestedTwentyThousandDeepIsRefusedBeforeParsing) {
+  json g = hardcase::quadGltf();
+  g["nodes"].push_back({{"mesh", 0}});
+  std::string text = g.dump();
+  text.pop_back();  // the closing brace: add a deeply nested "extras" member
+  text += ",\"extras\":" + std::string(20000, '[') + std::string(20000, ']') + "}";
+  write("quad.bin", hardcase::quadBuffer());
+  const fs::path file = write("deep.gltf", text);
+  const auto r = gltest::runHlodr(
+      "build " + file.string() + " -o " + (dir / "s.hlod").string() + " --quiet", kLimits);
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_TRUE(mentions(r, "deep.gltf: JSON nested deeper than")) << r.output;
+}
+
+TEST_F(GltfSceneLimits, ShallowNestingInsideStringsIsNotCountedAsDepth) {
+  json g = hardcase::quadGltf();
+  g["nodes"].push_back({{"mesh", 0}, {"name", std::string(5000, '[') + "\\\"{"}});
+  const auto r = build(g);
+  EXPECT_EQ(r.status, 0) << r.output;
+}
+
+TEST_F(GltfSceneLimits, NodesSharingChildrenCannotExpandToTwoToTheFortyInstances) {
+  json g = hardcase::quadGltf();
+  for (int i = 0; i < 40; ++i) g["nodes"].push_back({{"children", {i + 1, i + 1}}});
+  g["nodes"].push_back({{"mesh", 0}});
+  const auto r = build(g);
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_TRUE(mentions(r, "more than 1000000 node instances")) << r.output;
+}
+
+TEST_F(GltfSceneLimits, SharedChildrenWithinTheBoundStillBuild) {
+  // Level i: node 3i lists 3i+1 and 3i+2, which both list node 3(i+1): 2^12 instances of the
+  // quad, each at its own place (the left branch of level i moves by 2^(i+1)).
+  json g = hardcase::quadGltf();
+  constexpr int kLevels = 12;
+  for (int i = 0; i < kLevels; ++i) {
+    g["nodes"].push_back({{"children", {3 * i + 1, 3 * i + 2}}});
+    g["nodes"].push_back(
+        {{"children", {3 * (i + 1)}}, {"translation", {double(2 << i), 0.0, 0.0}}});
+    g["nodes"].push_back({{"children", {3 * (i + 1)}}});
+  }
+  g["nodes"].push_back({{"mesh", 0}});
+  const auto r = build(g);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto i = info();
+  EXPECT_EQ(json::parse(i.output)["inputTriangles"], 2 << kLevels) << i.output;
+}
+
+TEST_F(GltfSceneLimits, AnAccessorWithoutBufferViewCannotClaimFourBillionVertices) {
+  json g = hardcase::quadGltf();
+  g["accessors"][0] = {{"componentType", 5126}, {"count", 4000000000LL}, {"type", "VEC3"}};
+  g["nodes"].push_back({{"mesh", 0}});
+  const auto r = build(g);
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_TRUE(mentions(r, "more than 100000000")) << r.output;
+  EXPECT_FALSE(mentions(r, "out of memory")) << r.output;
+}
+
+}  // namespace
