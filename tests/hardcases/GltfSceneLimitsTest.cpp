@@ -1,7 +1,7 @@
 // glTF scenes that once crashed or exhausted memory: a node chain 20,000 deep (stack overflow in
 // the recursive scene walk), JSON nested 20,000 deep (stack overflow in the parser), 40 nodes
 // that each list the next one twice (2^40 instances), an accessor without a buffer view whose
-// count no bytes back.
+// count no bytes back, and 200,000 instances of one quad at one place (bad_alloc in the cuts).
 // Each runs under a 4 GB address-space limit, so that a regression fails fast instead of
 // taking the machine's memory.
 #include <string>
@@ -97,6 +97,25 @@ TEST_F(GltfSceneLimits, AnAccessorWithoutBufferViewCannotClaimFourBillionVertice
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_TRUE(mentions(r, "more than 100000000")) << r.output;
   EXPECT_FALSE(mentions(r, "out of memory")) << r.output;
+}
+
+TEST_F(GltfSceneLimits, TwoHundredThousandInstancesOfOneQuadAtOnePlaceBuild) {
+  json g = hardcase::quadGltf();
+  constexpr int kCopies = 200000;
+  json roots = json::array();
+  for (int i = 0; i < kCopies; ++i) {
+    g["nodes"].push_back({{"mesh", 0}});
+    roots.push_back(i);
+  }
+  g["scenes"][0]["nodes"] = roots;
+  const auto r = build(g);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto i = info();
+  ASSERT_EQ(i.status, 0) << i.output;
+  const json facts = json::parse(i.output);
+  EXPECT_EQ(facts["inputTriangles"], 2 * kCopies);
+  // The pile cannot be separated by cuts: cutting it may not multiply its triangles.
+  EXPECT_LE(facts["leafTriangles"].get<long long>(), 2LL * 2 * kCopies) << i.output;
 }
 
 }  // namespace

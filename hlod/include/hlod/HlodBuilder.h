@@ -109,7 +109,8 @@ class HlodBuilder {
   // them (planBlockSeams).
   Status addBlock(const Mesh& block, const std::vector<CutPlane>& planes = {},
                   const SeamVertices* neighbourSeams = nullptr);
-  // Writes the skeleton and moves the store into place.
+  // Writes the skeleton and moves the store into place. An Error when no block added a node
+  // (nothing to draw): no empty store is written.
   Result<Skeleton> finish(double buildSeconds);
   const Skeleton& skeleton() const { return skeleton_; }
   std::uint64_t inputTriangles() const { return inputTriangles_; }
@@ -129,7 +130,8 @@ Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::
                                      const BuildOptions& options,
                                      const BuildProgressFn& progress = {});
 
-// Builds a store from a city folder, loading one block at a time.
+// Builds a store from a city folder, loading one block at a time; a city without blocks is an
+// Error before anything is written.
 Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
                                     const std::filesystem::path& dir, const BuildOptions& options,
                                     const BuildProgressFn& progress = {});

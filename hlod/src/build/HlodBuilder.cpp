@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <map>
 
 #include <OpenImageIO/imagebuf.h>
@@ -66,6 +67,29 @@ double rootSimplification(const Mesh& welded, const BuildOptions& options) {
   return double(welded.triangleCount()) / std::max<std::uint32_t>(1, options.desiredTri);
 }
 
+// What the slab cuts of one block may add to its triangles, in all. A cut through a pile of
+// coincident triangles cuts every one of them, at every level: 20,000 copies of one quad grew
+// 211-fold on the way to the leaves, 200,000 ended in bad_alloc. Once the spare (as many
+// triangles as the block holds) is spent, a piece whose cut would add more stays a leaf with its
+// original triangles. Both buildBlockHierarchy and planBlockSeams cut breadth-first, so both
+// spend it alike and agree on every cut.
+class CutSpare {
+ public:
+  explicit CutSpare(std::size_t triangles) : left_(triangles) {}
+  // True (and spent) when the children add no more triangles than are left.
+  bool take(const Mesh& piece, const Children& c) {
+    std::size_t children = 0;
+    for (const Mesh& m : c.slabs.pieces) children += m.triangleCount();
+    const std::size_t added = children - std::min(children, piece.triangleCount());
+    if (added > left_) return false;
+    left_ -= added;
+    return true;
+  }
+
+ private:
+  std::size_t left_;
+};
+
 }  // namespace
 
 SeamVertices planBlockSeams(const Mesh& block, const BuildOptions& options,
@@ -79,19 +103,21 @@ SeamVertices planBlockSeams(const Mesh& block, const BuildOptions& options,
   };
   Mesh welded = weldVertices(block);
   if (welded.triangleCount() == 0) return seams;
-  std::vector<Pending> stack;
+  CutSpare spare(welded.triangleCount());
+  std::deque<Pending> queue;  // breadth-first, as buildBlockHierarchy (see CutSpare)
   const double s0 = rootSimplification(welded, options);
-  stack.push_back({std::move(welded), blockPlanes, s0});
-  while (!stack.empty()) {
-    Pending p = std::move(stack.back());
-    stack.pop_back();
+  queue.push_back({std::move(welded), blockPlanes, s0});
+  while (!queue.empty()) {
+    Pending p = std::move(queue.front());
+    queue.pop_front();
     seams.collect(p.piece, p.planes);
     const Aabb box = p.piece.bounds();
     if (!isInner(p.s, box)) continue;
     Children c = splitPiece(p.piece, box, p.planes, clampedLevelFactor(options));
+    if (!spare.take(p.piece, c)) continue;
     for (std::size_t k = 0; k < c.slabs.pieces.size(); ++k) {
       if (c.slabs.pieces[k].triangleCount() == 0) continue;
-      stack.push_back({std::move(c.slabs.pieces[k]), std::move(c.planes[k]),
+      queue.push_back({std::move(c.slabs.pieces[k]), std::move(c.planes[k]),
                        p.s / double(clampedLevelFactor(options))});
     }
   }
@@ -106,6 +132,7 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
   Mesh welded = weldVertices(block);
   if (welded.triangleCount() == 0) return nodes;
   const int levelFactor = clampedLevelFactor(options);
+  CutSpare spare(welded.triangleCount());
   SeamVertices seams;
   if (neighbourSeams) seams.merge(*neighbourSeams);
 
@@ -125,15 +152,21 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
     nodes[i].info.bounds = box;
     nodes[i].info.centre = box.centre();
     seams.collect(piece, nodes[i].planes);
-    if (isInner(s, box)) {
+    // Children: levelFactor slabs of the piece's original triangles, s_{d+1} = s_d / levelFactor.
+    // (The nodes are visited breadth-first: nodes[] grows level by level.)
+    Children c;
+    bool inner = isInner(s, box);
+    if (inner) {
+      c = splitPiece(piece, box, nodes[i].planes, levelFactor);
+      inner = spare.take(piece, c);
+    }
+    if (inner) {
       const auto target =
           std::max<std::size_t>(1, std::size_t(std::llround(double(piece.triangleCount()) / s)));
       SimplifiedMesh simplified =
           simplifier.simplify(piece, target, cutVertices(piece, nodes[i].planes));
       nodes[i].mesh = std::move(simplified.mesh);
       nodes[i].info.geometricError = simplified.geometricError;
-      // Children: levelFactor slabs of the piece's original triangles, s_{d+1} = s_d / levelFactor.
-      Children c = splitPiece(piece, box, nodes[i].planes, levelFactor);
       nodes[i].cutAxis = c.slabs.axis;
       nodes[i].cutPlanes = c.slabs.planes;
       piece = Mesh{};
@@ -191,8 +224,13 @@ void appendMesh(Mesh& dst, const Mesh& src) {
   for (std::uint32_t i : src.indices) dst.indices.push_back(base + i);
 }
 
+// `spare`: the triangles that cuts may still add, shared by the whole recursion. A cut through
+// a pile of coincident triangles cuts every one of them, so both halves can hold more triangles
+// than the whole; without this bound such a pile grew by half at each of the 48 levels
+// (200,000 copies of one quad ended in bad_alloc). Such a block stays whole: the triangle
+// bound is a memory target, not a contract.
 void splitUntilSmall(Mesh mesh, std::vector<CutPlane> planes, std::size_t maxTriangles, int depth,
-                     std::vector<Block>& out) {
+                     std::size_t& spare, std::vector<Block>& out) {
   const Aabb box = mesh.bounds();
   const int axis = longestAxis(box);
   // Depth bound: triangles piled at one point cannot be separated by any plane.
@@ -202,12 +240,21 @@ void splitUntilSmall(Mesh mesh, std::vector<CutPlane> planes, std::size_t maxTri
   }
   const CutPlane cut{axis, box.centre()[axis]};
   PlaneSplitResult halves = splitByPlane(mesh, axis, cut.value);
+  const std::size_t whole = mesh.triangleCount();
+  const std::size_t below = halves.below.triangleCount(), above = halves.above.triangleCount();
+  const std::size_t added = below + above - std::min(below + above, whole);
+  if (added > spare) {
+    out.push_back({std::move(mesh), std::move(planes)});
+    return;
+  }
+  spare -= added;
   mesh = Mesh{};
   planes.push_back(cut);
-  if (halves.below.triangleCount() > 0)
-    splitUntilSmall(std::move(halves.below), planes, maxTriangles, depth + 1, out);
-  if (halves.above.triangleCount() > 0)
-    splitUntilSmall(std::move(halves.above), std::move(planes), maxTriangles, depth + 1, out);
+  if (below > 0)
+    splitUntilSmall(std::move(halves.below), planes, maxTriangles, depth + 1, spare, out);
+  if (above > 0)
+    splitUntilSmall(std::move(halves.above), std::move(planes), maxTriangles, depth + 1, spare,
+                    out);
 }
 
 }  // namespace
@@ -231,7 +278,9 @@ std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles) {
   std::vector<Block> blocks;
   for (auto& [key, mesh] : groups) {
     std::vector<Block> parts;
-    splitUntilSmall(weldVertices(mesh), {}, std::max<std::size_t>(1, maxTriangles), 0, parts);
+    std::size_t spare = mesh.triangleCount();  // cuts may at most double the triangles
+    splitUntilSmall(weldVertices(mesh), {}, std::max<std::size_t>(1, maxTriangles), 0, spare,
+                    parts);
     for (std::size_t i = 0; i < parts.size(); ++i) {
       if (parts.size() > 1) parts[i].mesh.name = mesh.name + "#" + std::to_string(i);
       blocks.push_back(std::move(parts[i]));
@@ -356,6 +405,8 @@ Status HlodBuilder::addBlock(const Mesh& block, const std::vector<CutPlane>& pla
 }
 
 Result<Skeleton> HlodBuilder::finish(double buildSeconds) {
+  // An empty store would only be rejected later, by `hlodr path` and the renderer.
+  if (skeleton_.nodes.empty()) return makeError("no triangles to build a store from");
   StoreFacts facts;
   facts.inputTriangles = inputTriangles_;
   facts.blockCount = blockCount_;
@@ -403,6 +454,9 @@ Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
   const auto t0 = std::chrono::steady_clock::now();
   auto manifest = readCityManifest(cityDir);
   if (!manifest) return manifest.error();
+  if (manifest->blocks.empty())
+    return makeError((cityDir / "city.json").string() +
+                     " lists no blocks: no triangles to build a store from");
   auto builder = HlodBuilder::create(dir, options);
   if (!builder) return builder.error();
   BuildProgress p;
