@@ -49,7 +49,12 @@ std::vector<std::byte> compressPayload(std::span<const std::byte> raw);
 Result<std::vector<std::byte>> inflatePayload(std::span<const std::byte> stored,
                                               std::uint64_t memoryBytes);
 
-// skeleton.bin encoding; decoding verifies the checksum and the tree's structure.
+// skeleton.bin encoding; decoding verifies the checksum, the tree's structure and the build
+// parameters. A decoded skeleton guarantees what the rest of hlodr asserts: children
+// [firstChild, firstChild + childCount) lie after their parent and inside nodes, each child's
+// parent and level agree with it, roots are exactly the parentless nodes, payloads lie inside
+// payload.bin, every double is finite, levelFactor is in [2, 64], c_tex in [0, 1], desiredTri
+// at least 1 and the build time finite and not negative.
 std::vector<std::byte> encodeSkeleton(const Skeleton& skeleton, const StoreFacts& facts);
 struct DecodedSkeleton {
   Skeleton skeleton;

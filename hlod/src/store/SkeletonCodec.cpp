@@ -108,6 +108,15 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
       !r.get(out.facts.blockCount) || !r.get(out.facts.buildSeconds) ||
       !r.get(out.facts.payloadBytes) || !r.get(nodeCount) || !r.get(rootCount))
     return bad("truncated header");
+  // The ranges HlodBuilder::create accepts: `hlodr info` once printed nan and inf from here.
+  // (The simplifier name is any bytes; printing it is the printer's care.)
+  if (!(s.params.levelFactor >= 2.0 && s.params.levelFactor <= 64.0))
+    return bad("build parameter levelFactor is not in [2, 64]");
+  if (s.params.desiredTri < 1) return bad("build parameter desiredTri is 0");
+  if (!(s.params.cTex >= 0.0 && s.params.cTex <= 1.0))
+    return bad("build parameter c_tex is not in [0, 1]");
+  if (!(out.facts.buildSeconds >= 0.0 && std::isfinite(out.facts.buildSeconds)))
+    return bad("build time is not a finite number of seconds");
   if (std::uint64_t(nodeCount) * kNodeRecordSize + std::uint64_t(rootCount) * 4 != r.remaining())
     return bad("node count does not match the file size");
   if (rootCount > nodeCount) return bad("more roots than nodes");

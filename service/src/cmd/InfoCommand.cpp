@@ -20,6 +20,26 @@ const char* const kInfoUsage =
     "options:\n"
     "  --json   machine-readable output\n";
 
+namespace {
+
+// The simplifier name is bytes from the file: escape what is not printable ASCII, so that
+// terminal escape codes do not reach the terminal and the JSON stays valid UTF-8.
+std::string printable(const std::string& name) {
+  std::string out;
+  for (const unsigned char c : name) {
+    if (c >= 0x20 && c < 0x7f && c != '\\') {
+      out += static_cast<char>(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 int runInfo(const Argv& argv) {
   auto args = Args::parse(argv, {"json"}, {});
   if (!args) {
@@ -63,7 +83,7 @@ int runInfo(const Argv& argv) {
     j["params"] = {{"levelFactor", s.params.levelFactor},
                    {"desiredTri", s.params.desiredTri},
                    {"cTex", s.params.cTex},
-                   {"simplifier", s.params.simplifier}};
+                   {"simplifier", printable(s.params.simplifier)}};
     j["nodes"] = s.nodes.size();
     j["blocks"] = f.blockCount;
     j["depth"] = depth;
@@ -84,8 +104,8 @@ int runInfo(const Argv& argv) {
   }
   std::printf("store         %s\n", args->positionals()[0].c_str());
   std::printf("built with    levelFactor %g, desiredTri %u, c_tex %.3f, simplifier %s (%.1f s)\n",
-              s.params.levelFactor, s.params.desiredTri, s.params.cTex, s.params.simplifier.c_str(),
-              f.buildSeconds);
+              s.params.levelFactor, s.params.desiredTri, s.params.cTex,
+              printable(s.params.simplifier).c_str(), f.buildSeconds);
   std::printf("blocks        %u\n", f.blockCount);
   std::printf("nodes         %zu\n", s.nodes.size());
   std::printf("depth         %zu\n", depth);
