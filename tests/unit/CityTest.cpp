@@ -373,4 +373,18 @@ TEST(CityFolder, WriteCityReportsBadArguments) {
   EXPECT_NE(s.message().find("file"), std::string::npos) << s.message();
 }
 
+TEST(CityWriter, TheSizeEstimateIsAnUpperBoundCloseToWhatIsWritten) {
+  TempDir dir;
+  CityOptions o;
+  o.blocks = 2;
+  ASSERT_TRUE(hlod::writeCity(dir.path(), o));
+  std::uintmax_t written = 0;
+  for (const auto& e : fs::directory_iterator(dir.path())) written += fs::file_size(e.path());
+  const std::uint64_t estimate = hlod::estimateCityBytes(o);
+  EXPECT_GE(estimate, written);
+  EXPECT_LE(double(estimate), 1.5 * double(written));
+  o.blocks = 100000;  // the figure the free-space check compares: about 270 GB
+  EXPECT_GT(hlod::estimateCityBytes(o), 200'000'000'000ULL);
+}
+
 }  // namespace

@@ -1,8 +1,6 @@
 // Procedural city: block generation and the streaming writer of a city folder (see City.h).
 #include "hlod/City.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -20,6 +18,7 @@
 
 #include "city/CityPlan.h"
 #include "hlod/PlyWriter.h"
+#include "hlod/import/ImageWriter.h"
 
 namespace hlod {
 
@@ -30,19 +29,11 @@ namespace {
 constexpr double kEarthRadius = 6378137.0;  // WGS84 equatorial radius, metres
 constexpr double kDegPerRad = 57.29577951308232;
 
-// PNG through OpenImageIO, compression level 1 and no row filter: these noisy textures barely
-// shrink at higher levels or with filters, and the defaults (level 6, adaptive filters) made PNG
-// encoding take 4x as long as everything else in writeCity together.
+// PNG at compression level 1 and no row filter: these noisy textures barely shrink at higher
+// levels or with filters, and the defaults (level 6, adaptive filters) made PNG encoding take 4x
+// as long as everything else in writeCity together.
 Status writePng(const fs::path& path, const Image& image) {
-  auto out = OIIO::ImageOutput::create(path.string());
-  if (!out) return makeError("cannot create PNG writer for " + path.string());
-  OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::UINT8);
-  spec.attribute("png:compressionLevel", 1);
-  spec.attribute("png:filter", 0x08);  // PNG_FILTER_NONE: faster and, on noise, smaller
-  if (!out->open(path.string(), spec) ||
-      !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) || !out->close())
-    return makeError("cannot write " + path.string() + ": " + out->geterror());
-  return Ok{};
+  return writeImageFile(path, image, {.alpha = true, .fastPng = true});
 }
 
 }  // namespace
@@ -72,6 +63,26 @@ Mesh generateBlock(const CityOptions& options, int index) {
   return mesh;
 }
 
+std::uint64_t estimateCityBytes(const CityOptions& options) {
+  constexpr std::uint64_t kPlyBytesPerBlock = 2'400'000;
+  constexpr double kPngBytesPerTexel = 1.3;
+  constexpr std::uint64_t kManifestBytesPerBlock = 400;
+  const double texels = double(options.textureSize) * double(options.textureSize);
+  const auto perBlock = kPlyBytesPerBlock + kManifestBytesPerBlock +
+                        static_cast<std::uint64_t>(std::ceil(texels * kPngBytesPerTexel));
+  return static_cast<std::uint64_t>(std::max(options.blocks, 0)) * perBlock;
+}
+
+namespace {
+
+std::string gigabytes(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f GB", double(bytes) / 1e9);
+  return text;
+}
+
+}  // namespace
+
 Status writeCity(const fs::path& dir, const CityOptions& options, const CityProgressFn& progress) {
   if (options.blocks < 1 || options.blocks > kMaxCityBlocks)
     return makeError("block count " + std::to_string(options.blocks) + " is outside [1, " +
@@ -81,11 +92,22 @@ Status writeCity(const fs::path& dir, const CityOptions& options, const CityProg
                      " is outside [64, 4096]");
   if (dir.empty()) return makeError("no output directory given");
   std::error_code ec;
+  // 100,000 blocks are about 270 GB: say so before filling the disk (and before creating dir).
+  fs::path existing = fs::absolute(dir, ec);
+  while (!fs::exists(existing, ec) && existing != existing.parent_path())
+    existing = existing.parent_path();
+  const std::uint64_t needed = estimateCityBytes(options);
+  const fs::space_info space = fs::space(existing, ec);
+  if (!ec && space.available < needed)
+    return makeError("writing " + std::to_string(options.blocks) + " blocks takes about " +
+                     gigabytes(needed) + ", but the disk of " + dir.string() + " has only " +
+                     gigabytes(space.available) + " free (write fewer blocks, or elsewhere)");
   fs::create_directories(dir, ec);
   std::error_code ec2;
   if (ec && !fs::is_directory(dir, ec2))
     return makeError("cannot create directory " + dir.string() + ": " + ec.message());
   if (!fs::is_directory(dir, ec)) return makeError(dir.string() + " is not a directory");
+
   const fs::path tmp = dir / "city.json.tmp";
   {
     std::ofstream probe(tmp, std::ios::binary | std::ios::trunc);

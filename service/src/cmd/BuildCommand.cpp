@@ -1,6 +1,4 @@
 // `hlodr build`: turns a mesh, a glTF scene or a city folder into an HLOD node store.
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +10,7 @@
 #include "hlod/HlodBuilder.h"
 #include "hlod/Import.h"
 #include "service/Args.h"
+#include "service/Progress.h"
 
 namespace service::cmd {
 
@@ -110,15 +109,15 @@ int runBuild(const Argv& argv) {
     cTexSource = "default";
   }
 
-  const bool tty = !quiet && isatty(fileno(stderr));
+  ProgressLine lines("build", quiet);
   auto progress = [&](const hlod::BuildProgress& p) {
-    if (!tty) return;
     const double rate = p.seconds > 0 ? double(p.trianglesDone) / p.seconds : 0.0;
     const double eta =
         p.blocksDone ? p.seconds / double(p.blocksDone) * double(p.blockCount - p.blocksDone) : 0.0;
-    std::fprintf(stderr, "\rbuild: %zu/%zu blocks, %.2f M input triangles/s, ETA %s   ",
-                 p.blocksDone, p.blockCount, rate / 1e6, formatSeconds(eta).c_str());
-    std::fflush(stderr);
+    char text[160];
+    std::snprintf(text, sizeof text, "%zu/%zu blocks, %.2f M input triangles/s, ETA %s",
+                  p.blocksDone, p.blockCount, rate / 1e6, formatSeconds(eta).c_str());
+    lines.update(p.blockCount ? double(p.blocksDone) / double(p.blockCount) : 1.0, text);
   };
 
   const auto& inputs = args->positionals();
@@ -132,10 +131,10 @@ int runBuild(const Argv& argv) {
         std::fprintf(stderr, "hlodr build: %s is a folder without city.json\n", in.c_str());
         return 1;
       }
-      if (tty) std::fprintf(stderr, "\rbuild: importing %s   ", in.c_str());
+      lines.update(0.0, "importing " + in);
       auto m = hlod::importModel(in);
       if (!m) {
-        if (tty) std::fprintf(stderr, "\n");
+        lines.done();
         std::fprintf(stderr, "hlodr build: %s\n", m.message().c_str());
         return 1;
       }
@@ -143,7 +142,7 @@ int runBuild(const Argv& argv) {
     }
     built = hlod::buildStoreFromModel(model, *out, options, progress);
   }
-  if (tty) std::fprintf(stderr, "\n");
+  lines.done();
   if (!built) {
     std::fprintf(stderr, "hlodr build: %s\n", built.message().c_str());
     return 1;

@@ -1,12 +1,11 @@
 // `hlodr city`: writes the procedural city (hlodr's default scene) to a folder.
-#include <unistd.h>
-
 #include <cstdio>
 #include <string>
 
 #include "cmd/Commands.h"
 #include "hlod/City.h"
 #include "service/Args.h"
+#include "service/Progress.h"
 
 namespace service::cmd {
 
@@ -65,21 +64,21 @@ int runCity(const Argv& argv) {
   options.seed = static_cast<std::uint64_t>(*seed);
   options.textureSize = static_cast<int>(*texture);
   const bool quiet = args->has("quiet");
-  const bool tty = !quiet && isatty(fileno(stderr));
+  ProgressLine lines("city", quiet);
 
   double seconds = 0.0;
   std::size_t triangles = 0;
   auto progress = [&](const hlod::CityProgress& p) {
     seconds = p.seconds;
     triangles = p.triangles;
-    if (!tty) return;
     const double rate = p.seconds > 0 ? p.triangles / p.seconds : 0.0;
-    std::fprintf(stderr, "\rcity: %d/%d blocks, %.2f M triangles, %.2f M triangles/s   ",
-                 p.blocksDone, p.blocksTotal, p.triangles / 1e6, rate / 1e6);
-    std::fflush(stderr);
+    char text[160];
+    std::snprintf(text, sizeof text, "%d/%d blocks, %.2f M triangles, %.2f M triangles/s",
+                  p.blocksDone, p.blocksTotal, p.triangles / 1e6, rate / 1e6);
+    lines.update(double(p.blocksDone) / p.blocksTotal, text);
   };
   const hlod::Status status = hlod::writeCity(*dir, options, progress);
-  if (tty) std::fprintf(stderr, "\n");
+  lines.done();
   if (!status) {
     std::fprintf(stderr, "hlodr city: %s\n", status.message().c_str());
     return 1;
