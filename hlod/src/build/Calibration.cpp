@@ -19,23 +19,25 @@ Result<std::filesystem::path> calibrationPath() {
       "no calibration location: neither HLODR_CALIBRATION, XDG_CONFIG_HOME nor HOME is set");
 }
 
-Result<double> readCalibratedCTex() {
+Result<std::optional<double>> readCalibratedCTex() {
   auto path = calibrationPath();
-  if (!path) return path.error();
+  if (!path) return std::optional<double>();
+  std::error_code ec;
+  if (!std::filesystem::exists(*path, ec)) return std::optional<double>();
   std::ifstream in(*path);
-  if (!in) return makeError("no calibration file at " + path->string());
+  if (!in) return makeError("calibration file " + path->string() + " cannot be read");
   std::stringstream text;
   text << in.rdbuf();
   const auto json = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
   if (json.is_discarded() || !json.is_object())
-    return makeError(path->string() + ": not a JSON object");
+    return makeError("calibration file " + path->string() + " is not a JSON object");
   const auto it = json.find("cTex");
   if (it == json.end() || !it->is_number())
-    return makeError(path->string() + ": no number \"cTex\"");
+    return makeError("calibration file " + path->string() + " has no number \"cTex\"");
   const double c = it->get<double>();
   if (!std::isfinite(c) || c < 0.0 || c > 1.0)
-    return makeError(path->string() + ": cTex outside [0, 1]");
-  return c;
+    return makeError("calibration file " + path->string() + ": cTex is outside [0, 1]");
+  return std::optional<double>(c);
 }
 
 Status writeCalibration(double cTex) {

@@ -101,8 +101,12 @@ int runBuild(const Argv& argv) {
       return 2;
     }
     options.cTex = *c;
-  } else if (auto calibrated = hlod::readCalibratedCTex()) {
-    options.cTex = *calibrated;
+  } else if (auto calibrated = hlod::readCalibratedCTex(); !calibrated) {
+    std::fprintf(stderr, "hlodr build: %s (fix or remove it, or give --c-tex)\n",
+                 calibrated.message().c_str());
+    return 2;
+  } else if (calibrated->has_value()) {
+    options.cTex = **calibrated;
     cTexSource = "calibration file";
   } else {
     options.cTex = hlod::kDefaultCTex;

@@ -82,10 +82,17 @@ int runCalibrate(const Argv& argv) {
   }
   auto blocks = args->integer("blocks", 8, 1, 256);
   auto frames = args->integer("frames", 7, 1, 100);
+  for (const auto* r : {&blocks, &frames})
+    if (!*r) {
+      std::fprintf(stderr, "hlodr calibrate: %s\n%s", r->message().c_str(), kCalibrateUsage);
+      return 2;
+    }
   int width = 1280, height = 720;
-  if (!blocks || !frames ||
-      std::sscanf(args->get("size", "1280x720").c_str(), "%dx%d", &width, &height) != 2) {
-    std::fprintf(stderr, "hlodr calibrate: bad option value\n%s", kCalibrateUsage);
+  char extra = 0;
+  if (std::sscanf(args->get("size", "1280x720").c_str(), "%dx%d%c", &width, &height, &extra) != 2 ||
+      width < 1 || height < 1 || width > 8192 || height > 8192) {
+    std::fprintf(stderr, "hlodr calibrate: --size must look like 1280x720 (1x1 to 8192x8192)\n%s",
+                 kCalibrateUsage);
     return 2;
   }
   auto backend = renderer::backendFromEnvironment();

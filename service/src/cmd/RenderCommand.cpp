@@ -1,7 +1,9 @@
 // `hlodr render MODEL -o frame.png`: one frame of a mesh file or city folder at full detail;
 // `hlodr render STORE --path PATH.json -o OUT`: a camera path through a node store (PathCommand).
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "cmd/Commands.h"
@@ -73,13 +75,29 @@ bool parseSize(const std::string& s, int& w, int& h) {
   return (in >> w >> x >> h) && x == 'x' && in.eof();
 }
 
-bool parseVec6(const std::string& s, double v[6]) {
-  std::istringstream in(s);
+// --camera PX,PY,PZ,TX,TY,TZ: six finite numbers, the position apart from the target. The
+// message says which value is wrong.
+hlod::Result<std::array<double, 6>> parseCamera(const std::string& s) {
+  const hlod::Error usage =
+      hlod::makeError("--camera needs six numbers PX,PY,PZ,TX,TY,TZ, not '" + s + "'");
+  std::array<double, 6> v{};
+  std::size_t start = 0;
   for (int i = 0; i < 6; ++i) {
-    if (!(in >> v[i]) || !std::isfinite(v[i])) return false;
-    if (i < 5 && (in.get() != ',')) return false;
+    const std::size_t comma = s.find(',', start);
+    if ((comma == std::string::npos) != (i == 5)) return usage;
+    const std::string field = s.substr(start, comma == std::string::npos ? comma : comma - start);
+    start = comma + 1;
+    char* end = nullptr;
+    v[i] = std::strtod(field.c_str(), &end);  // out of range gives inf, refused below
+    if (field.empty() || *end != '\0') return usage;
+    static const char* const names[6] = {"PX", "PY", "PZ", "TX", "TY", "TZ"};
+    if (!std::isfinite(v[i]))
+      return hlod::makeError("--camera: " + std::string(names[i]) + " is '" + field +
+                             "', not a finite number");
   }
-  return in.peek() == EOF;
+  if (v[0] == v[3] && v[1] == v[4] && v[2] == v[5])
+    return hlod::makeError("--camera: the position and the target are the same point");
+  return v;
 }
 
 }  // namespace
@@ -92,7 +110,12 @@ int runRender(const Argv& argv) {
     return 2;
   }
   if (args->positionals().size() != 1 || !args->has("output")) {
-    std::fprintf(stderr, "%s", kRenderUsage);
+    const std::size_t n = args->positionals().size();
+    const std::string why = n == 0  ? "no MODEL given"
+                            : n > 1 ? "give one MODEL, not " + std::to_string(n) + " ('" +
+                                          args->positionals()[1] + "' is the second)"
+                                    : "an output is required (-o IMAGE, or -o OUT with --path)";
+    std::fprintf(stderr, "hlodr render: %s\n\n%s", why.c_str(), kRenderUsage);
     return 2;
   }
   // A node store, or any --path: a camera path run (PathCommand.cpp checks the rest).
@@ -112,6 +135,13 @@ int runRender(const Argv& argv) {
   auto fov = args->number("fov", 50.0, 1.0, 170.0);
   if (!fov) {
     std::fprintf(stderr, "hlodr render: %s\n", fov.message().c_str());
+    return 2;
+  }
+  // Checked before the model loads, which can take long.
+  hlod::Result<std::array<double, 6>> cameraValues = std::array<double, 6>{};
+  if (auto c = args->get("camera")) cameraValues = parseCamera(*c);
+  if (!cameraValues) {
+    std::fprintf(stderr, "hlodr render: %s\n", cameraValues.message().c_str());
     return 2;
   }
   options.effects.lambert = !args->has("unlit");
@@ -175,11 +205,7 @@ int runRender(const Argv& argv) {
   CameraPose camera;
   const double aspect = static_cast<double>(options.width) / options.height;
   if (auto c = args->get("camera")) {
-    double v[6];
-    if (!parseVec6(*c, v)) {
-      std::fprintf(stderr, "hlodr render: --camera needs six numbers PX,PY,PZ,TX,TY,TZ\n");
-      return 2;
-    }
+    const std::array<double, 6>& v = *cameraValues;
     camera.position = {v[0], v[1], v[2]};
     camera.target = {v[3], v[4], v[5]};
     camera.up = scene->up;

@@ -80,7 +80,10 @@ hlod::Status makeDefaultCity(const fs::path& dir) {
   }
   logLine("building its HLOD store " + store.string());
   hlod::BuildOptions options;
-  if (auto c = hlod::readCalibratedCTex()) options.cTex = *c;
+  // A malformed calibration file is an error here too, as in `hlodr build`.
+  const auto calibrated = hlod::readCalibratedCTex();
+  if (!calibrated) return calibrated.error();
+  if (calibrated->has_value()) options.cTex = **calibrated;
   ProgressLine progress("build", false);
   auto built = hlod::buildStoreFromCity(city, store, options, [&](const hlod::BuildProgress& p) {
     progress.update(double(p.blocksDone) / double(std::max<std::size_t>(1, p.blockCount)),
