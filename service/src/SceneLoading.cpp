@@ -36,6 +36,7 @@ hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quie
     return hlod::makeError(path.string() + ": a folder but not a city (no city.json)");
   auto model = hlod::importModel(path);
   if (!model) return model.error();
+  for (const auto& w : model->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   scene.model = std::move(*model);
   scene.up = {0.0, 1.0, 0.0};
   return scene;

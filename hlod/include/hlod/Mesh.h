@@ -68,6 +68,9 @@ struct Mesh {
 // Several meshes: a glTF scene, an OBJ with several materials, a city.
 struct Model {
   std::vector<Mesh> meshes;
+  // What the import skipped without failing (a texture it could not load, a material library
+  // outside the model's folder): for the caller to show. The library never prints.
+  std::vector<std::string> warnings;
 
   std::size_t triangleCount() const;
   Aabb bounds() const;

@@ -13,6 +13,7 @@
 //   selector->feedback(measuredMs);                      // v_time feedback loop
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -246,8 +247,10 @@ class Selector {
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const std::uint32_t n = queue[head];
       const NodeInfo& info = nodes[n];
-      const bool hasChildren = info.childCount > 0 && info.firstChild < nodes.size() &&
-                               info.childCount <= nodes.size() - info.firstChild;
+      // A decoded skeleton keeps every child range inside the nodes (decodeSkeleton).
+      assert(info.childCount == 0 ||
+             (info.firstChild < nodes.size() && info.childCount <= nodes.size() - info.firstChild));
+      const bool hasChildren = info.childCount > 0;
       if (!hasChildren || !wantsChildren(n)) {
         markDrawn(n, s);
         continue;

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <iostream>
 
 #include "hlod/import/InsideFolder.h"
 #include "import/ImportUtil.h"
@@ -36,8 +35,16 @@ Result<std::string> readWholeFile(const std::filesystem::path& path) {
   return bytes;
 }
 
+namespace {
+
+// The warnings of the import running on this thread (importModel collects them into the
+// Model): per thread, so that imports on the server's threads never mix their warnings.
+thread_local std::vector<std::string>* t_warnings = nullptr;
+
+}  // namespace
+
 void warn(const std::filesystem::path& path, const std::string& what) {
-  std::cerr << "warning: " << path.string() << ": " << what << '\n';
+  if (t_warnings) t_warnings->push_back(path.string() + ": " + what);
 }
 
 std::shared_ptr<const Image> TextureCache::load(const std::filesystem::path& meshFile,
@@ -135,6 +142,12 @@ Result<Model> importModel(const std::filesystem::path& path) {
                                "' (expected .obj, .ply, .off, .stl, "
                                ".gltf or .glb)");
   Result<Model> model = makeError("");
+  std::vector<std::string> warnings;
+  struct Collect {
+    explicit Collect(std::vector<std::string>* w) : outer(t_warnings) { t_warnings = w; }
+    ~Collect() { t_warnings = outer; }
+    std::vector<std::string>* outer;
+  } collect(&warnings);
   try {
     if (ext == ".gltf" || ext == ".glb") {
       std::error_code ec;
@@ -159,6 +172,7 @@ Result<Model> importModel(const std::filesystem::path& path) {
     return fileError(path, std::string("read failed: ") + e.what());
   }
   if (!model.ok()) return model;
+  model->warnings = std::move(warnings);
   for (auto& mesh : model->meshes)
     if (mesh.name.empty()) mesh.name = path.stem().string();
   if (auto s = validate(path, *model); !s.ok()) return s.error();

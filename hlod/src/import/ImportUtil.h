@@ -32,7 +32,8 @@ inline Error lineError(const std::filesystem::path& path, std::size_t line,
 // Reads the whole file: parsing from memory is much faster than stream extraction.
 Result<std::string> readWholeFile(const std::filesystem::path& path);
 
-// Warnings (a missing texture) go to stderr; they never fail the import.
+// Warnings (a missing texture) go to the Model's warnings (importModel collects them); they
+// never fail the import.
 void warn(const std::filesystem::path& path, const std::string& what);
 
 // Loads a texture named by a mesh file, relative to that file's folder; a failure is a warning and

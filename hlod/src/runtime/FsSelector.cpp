@@ -4,6 +4,7 @@
 #include "hlod/FsSelector.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -46,8 +47,9 @@ Selection FsSelector::select(const View& view, const Residency& residency) {
     s.loadPriorities.push_back({n, np.priority});
   };
   auto hasChildren = [&](const NodeInfo& info) {
-    return info.childCount > 0 && info.firstChild < nodes.size() &&
-           info.childCount <= nodes.size() - info.firstChild;
+    assert(info.childCount == 0 ||
+           (info.firstChild < nodes.size() && info.childCount <= nodes.size() - info.firstChild));
+    return info.childCount > 0;
   };
   // Evaluates the children of a drawn node and queues its refinement.
   auto offer = [&](std::uint32_t n) {

@@ -2,6 +2,7 @@
 #include "hlod/LakhiaSelector.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <tuple>
 
@@ -266,8 +267,8 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
     const std::uint32_t n = std::get<2>(heap.back());
     heap.pop_back();
     const NodeInfo& info = nodes[n];
-    if (info.firstChild >= nodes.size() || info.childCount > nodes.size() - info.firstChild)
-      continue;
+    // A decoded skeleton keeps every child range inside the nodes (decodeSkeleton).
+    assert(info.firstChild < nodes.size() && info.childCount <= nodes.size() - info.firstChild);
     children.clear();
     double childCost = 0.0;
     bool resident = true;

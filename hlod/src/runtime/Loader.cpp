@@ -2,6 +2,7 @@
 #include "hlod/Loader.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 
@@ -195,8 +196,8 @@ double Loader::priorityOf(std::uint32_t node) const {
 
 bool Loader::hasResidentChildLocked(std::uint32_t node) const {
   const NodeInfo& n = skeleton_.nodes[node];
-  for (std::uint32_t c = n.firstChild; c < n.firstChild + n.childCount && c < resident_.size();
-       ++c) {
+  assert(n.childCount == 0 || n.firstChild + std::size_t(n.childCount) <= resident_.size());
+  for (std::uint32_t c = n.firstChild; c < n.firstChild + n.childCount; ++c) {
     if (resident_[c]) return true;
   }
   return false;

@@ -142,6 +142,9 @@ int runBuild(const Argv& argv) {
         std::fprintf(stderr, "hlodr build: %s\n", m.message().c_str());
         return 1;
       }
+      if (!m->warnings.empty()) lines.done();
+      // Warnings show also with --quiet (which silences progress and the summary only).
+      for (const auto& w : m->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
       for (auto& mesh : m->meshes) model.meshes.push_back(std::move(mesh));
     }
     built = hlod::buildStoreFromModel(model, *out, options, progress);

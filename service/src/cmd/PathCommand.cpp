@@ -58,8 +58,12 @@ bool isNodeStore(const std::string& path) {
 int runPath(const Argv& argv) {
   auto args = Args::parse(argv, {}, {"output", "kind", "duration"});
   if (!args) return usageError("path", args.message());
-  if (args->positionals().size() != 1 || !args->has("output") || !args->has("kind")) {
-    std::fprintf(stderr, "%s", kPathUsage);
+  const char* missing = args->positionals().size() != 1 ? "give one node STORE"
+                        : !args->has("kind")            ? "--kind is required"
+                        : !args->has("output")          ? "-o PATH.json is required"
+                                                        : nullptr;
+  if (missing) {
+    std::fprintf(stderr, "hlodr path: %s\n%s", missing, kPathUsage);
     return 2;
   }
   auto duration = args->number("duration", 0.0, 0.1, 1e6);
