@@ -629,3 +629,30 @@ TEST_F(ServerTest, AStudyRunsAsAJobAndServesItsReport) {
   EXPECT_NE(errorMessage(badStudy).find("budgets"), std::string::npos);
   EXPECT_EQ(client().Delete(("/api/studies/" + id).c_str())->status, 204);
 }
+
+TEST_F(ServerTest, AFailingRenderIsA500WithAMessageAndTheServerKeepsServing) {
+  makeScene();
+  // A copy of the store whose hlod_0 payloads are damaged: a session on it cannot start.
+  const fs::path bad = dataDir() / "damaged.hlod";
+  fs::remove_all(bad);
+  fs::copy(dataDir() / "city.hlod", bad, fs::copy_options::recursive);
+  {
+    std::fstream f(bad / "payload.bin", std::ios::in | std::ios::out | std::ios::binary);
+    const std::string junk(64, '\x5a');
+    f.seekp(8);
+    f.write(junk.data(), std::streamsize(junk.size()));
+  }
+  start();
+  auto r = post("/api/sessions", {{"scene", "damaged"}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 500) << r->body;
+  EXPECT_EQ(errorCode(r), "internal");
+  EXPECT_NE(errorMessage(r).find("hlod_0 node"), std::string::npos) << r->body;
+  auto frame = post("/api/render", {{"scene", "damaged"}, {"width", 32}, {"height", 32}});
+  EXPECT_EQ(frame->status, 500);
+  auto ok = post("/api/render", {{"scene", "city"}, {"width", 32}, {"height", 32}});
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 200);
+  EXPECT_EQ(client().Get("/healthz")->status, 200);
+  fs::remove_all(bad);
+}
