@@ -3,10 +3,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh
-# The browser test's node modules (playwright-core, pinned in tests/web/package-lock.json): installed
-# only when missing or not matching the lock file, so a second run needs no network.
+# The browser test's node module, playwright-core, is kept in the repository (tests/web/vendor/):
+# installed from there when missing, with no network at all.
 if command -v npm >/dev/null; then
-  (cd tests/web && { npm ls --offline >/dev/null 2>&1 || npm ci --no-audit --no-fund; })
+  (cd tests/web && { npm ls --offline >/dev/null 2>&1 || npm ci --offline --no-audit --no-fund; })
 else
   echo "test: no npm, the browser test (web.page) will be skipped"
 fi
