@@ -7,8 +7,9 @@
 // a street grid: grid cell k (square shells from the origin, so block i sits at the same place
 // whatever the block count) has four blocks, one per side, each facing its street.
 //
-// Frame: city coordinates in metres, X east, Y north, Z up, ground at z = 0; the origin is the
-// south-west corner of the first grid cell and maps to kCityOriginLat/kCityOriginLon.
+// Frame: city coordinates in metres, X east, Y north, Z up, ground at z = 0: the east-north-up
+// frame (hlod/city/Geodesy.h, WGS84) at the city's origin, the south-west corner of the first
+// grid cell, which for the procedural city is kCityOriginLat/kCityOriginLon at height 0.
 //
 // Generation is deterministic: the same (seed, index) gives the same block, bit for bit, on
 // every platform that has the same floating point (own splitmix64 PRNG, no <random>
@@ -22,6 +23,7 @@
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
+#include "hlod/city/Geodesy.h"
 
 namespace hlod {
 
@@ -52,11 +54,8 @@ Mesh generateBlock(const CityOptions& options, int index);
 // File name stem of block `index`: "block_0000".
 std::string cityBlockName(int index);
 
-// Lat/lon (degrees) of a point in city coordinates: local tangent plane at the origin.
-struct LatLon {
-  double lat = 0.0;
-  double lon = 0.0;
-};
+// The geodetic position of a point in the procedural city's coordinates: the ENU frame at
+// (kCityOriginLat, kCityOriginLon, 0).
 LatLon cityToLatLon(const glm::dvec3& cityPosition);
 
 struct CityProgress {
@@ -81,19 +80,28 @@ std::uint64_t estimateCityBytes(const CityOptions& options);
 Status writeCity(const std::filesystem::path& dir, const CityOptions& options,
                  const CityProgressFn& progress = {});
 
+// How a block's mesh file gives its coordinates (the manifest's block "frame").
+enum class BlockFrame {
+  City,    // "city" (the default): metres in the city's frame, the ENU frame at its origin
+  Anchor,  // "anchor": metres in the ENU frame at the block's own anchor
+};
+
 struct CityBlockInfo {
   std::string name;
   std::filesystem::path mesh;     // dir / the manifest's relative path
   std::filesystem::path texture;  // empty when the block has none
   std::size_t triangles = 0;
-  Aabb bounds;
+  Aabb bounds;  // in city coordinates (the manifest's bounds, moved from the anchor's frame)
+  // The geographic position of the block: the manifest's "anchor" (lat, lon, optional height),
+  // or, when it has none, that of its bounds' centre. A BlockFrame::Anchor block needs one.
   LatLon anchor;
+  BlockFrame frame = BlockFrame::City;
 };
 
 struct CityManifest {
   std::filesystem::path dir;
   std::uint64_t seed = 0;
-  LatLon origin;
+  LatLon origin;  // of the city's frame ("origin": lat, lon, optional height)
   std::size_t triangles = 0;
   std::vector<CityBlockInfo> blocks;
 };
@@ -102,11 +110,15 @@ struct CityManifest {
 bool isCityFolder(const std::filesystem::path& dir);
 
 // Reads and validates dir/city.json: an Error for malformed JSON, a wrong format/version, missing
-// or mistyped fields, non-finite numbers, file paths that escape dir (absolute, "..") and block
-// files that do not exist.
+// or mistyped fields, non-finite numbers, latitudes beyond +-90, longitudes beyond +-180, an
+// unknown block frame, an "anchor" frame without an anchor, file paths that escape dir
+// (absolute, "..") and block files that do not exist.
 Result<CityManifest> readCityManifest(const std::filesystem::path& dir);
 
-// Loads block i (through hlod::importModel) as one mesh named after the block, with its texture.
+// Loads block i (through hlod::importModel) as one mesh named after the block, with its texture,
+// in city coordinates: a BlockFrame::Anchor block's positions and normals are moved from its
+// anchor's ENU frame into the city's (through ECEF, in double precision: exact across the
+// antimeridian and at the poles).
 Result<Mesh> loadCityBlock(const CityManifest& manifest, std::size_t i);
 
 // Loads every block of the city folder: one mesh per block.

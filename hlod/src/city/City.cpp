@@ -26,9 +26,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kEarthRadius = 6378137.0;  // WGS84 equatorial radius, metres
-constexpr double kDegPerRad = 57.29577951308232;
-
 // PNG at compression level 1 and no row filter: these noisy textures barely shrink at higher
 // levels or with filters, and the defaults (level 6, adaptive filters) made PNG encoding take 4x
 // as long as everything else in writeCity together.
@@ -45,12 +42,8 @@ std::string cityBlockName(int index) {
 }
 
 LatLon cityToLatLon(const glm::dvec3& p) {
-  // Local tangent plane at the origin: fine over the few kilometres a city spans.
-  LatLon ll;
-  ll.lat = kCityOriginLat + p.y / kEarthRadius * kDegPerRad;
-  ll.lon =
-      kCityOriginLon + p.x / (kEarthRadius * std::cos(kCityOriginLat / kDegPerRad)) * kDegPerRad;
-  return ll;
+  static const EnuFrame frame(LatLon{kCityOriginLat, kCityOriginLon, 0.0});
+  return frame.toGeodetic(p);
 }
 
 Mesh generateBlock(const CityOptions& options, int index) {
@@ -192,7 +185,7 @@ Status writeCity(const fs::path& dir, const CityOptions& options, const CityProg
          {"texture", name + ".png"},
          {"triangles", w.triangles},
          {"bounds", {{box.min.x, box.min.y, box.min.z}, {box.max.x, box.max.y, box.max.z}}},
-         {"anchor", {{"lat", anchor.lat}, {"lon", anchor.lon}}}});
+         {"anchor", {{"lat", anchor.lat}, {"lon", anchor.lon}, {"height", anchor.height}}}});
     if (progress)
       progress({i + 1, n, total, std::chrono::duration<double>(Clock::now() - start).count()});
   }
@@ -203,7 +196,7 @@ Status writeCity(const fs::path& dir, const CityOptions& options, const CityProg
       {"version", 1},
       {"seed", options.seed},
       {"blocks", std::move(blocks)},
-      {"origin", {{"lat", kCityOriginLat}, {"lon", kCityOriginLon}}},
+      {"origin", {{"lat", kCityOriginLat}, {"lon", kCityOriginLon}, {"height", 0.0}}},
       {"triangles", total}};
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);

@@ -52,6 +52,7 @@ Result<double> finiteNumber(const json& v, const std::string& where) {
   return x;
 }
 
+// {"lat": degrees, "lon": degrees, "height": metres above the WGS84 ellipsoid (optional, 0)}.
 Result<LatLon> latLon(const json& v, const std::string& where) {
   if (!v.is_object()) return makeError(where + " is not an object with lat and lon");
   if (!v.contains("lat") || !v.contains("lon")) return makeError(where + " lacks lat or lon");
@@ -60,10 +61,30 @@ Result<LatLon> latLon(const json& v, const std::string& where) {
   auto lon = finiteNumber(v["lon"], where + ".lon");
   if (!lon) return lon.error();
   if (std::abs(*lat) > 90.0 || std::abs(*lon) > 180.0) return makeError(where + " is out of range");
-  return LatLon{*lat, *lon};
+  double height = 0.0;
+  if (v.contains("height")) {
+    auto h = finiteNumber(v["height"], where + ".height");
+    if (!h) return h.error();
+    // Beyond the geostationary orbit nothing is a city; within it the conversions are exact.
+    if (std::abs(*h) > 1e8) return makeError(where + ".height is out of range (|h| <= 1e8 m)");
+    height = *h;
+  }
+  return LatLon{*lat, *lon, height};
 }
 
-Result<CityBlockInfo> blockInfo(const fs::path& dir, const json& b, std::size_t i) {
+// The axis-aligned box, in `to`'s coordinates, that holds `box` given in `from`'s.
+Aabb moveBox(const Aabb& box, const EnuToEnu& fromTo) {
+  Aabb out;
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec3 corner{k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y,
+                            k & 4 ? box.max.z : box.min.z};
+    out.extend(fromTo.point(corner));
+  }
+  return out;
+}
+
+Result<CityBlockInfo> blockInfo(const fs::path& dir, const json& b, std::size_t i,
+                                const EnuFrame& city) {
   const std::string where = "city.json blocks[" + std::to_string(i) + "]";
   if (!b.is_object()) return makeError(where + " is not an object");
   for (const char* key : {"name", "mesh", "triangles", "bounds"})
@@ -95,13 +116,27 @@ Result<CityBlockInfo> blockInfo(const fs::path& dir, const json& b, std::size_t 
     info.bounds.min[c] = *lo;
     info.bounds.max[c] = *hi;
   }
+  if (b.contains("frame")) {
+    if (b["frame"] == "city") {
+      info.frame = BlockFrame::City;
+    } else if (b["frame"] == "anchor") {
+      info.frame = BlockFrame::Anchor;
+    } else {
+      return makeError(where + ".frame is not \"city\" or \"anchor\"");
+    }
+  }
   if (b.contains("anchor")) {
     auto anchor = latLon(b["anchor"], where + ".anchor");
     if (!anchor) return anchor.error();
     info.anchor = *anchor;
+  } else if (info.frame == BlockFrame::Anchor) {
+    return makeError(where + " has frame \"anchor\" but no anchor");
   } else {
-    info.anchor = cityToLatLon(info.bounds.centre());
+    info.anchor = city.toGeodetic(info.bounds.centre());
   }
+  // The bounds of an anchored block are those of its file: move them into the city's frame.
+  if (info.frame == BlockFrame::Anchor)
+    info.bounds = moveBox(info.bounds, EnuToEnu(EnuFrame(info.anchor), city));
   return info;
 }
 
@@ -138,10 +173,11 @@ Result<CityManifest> readCityManifest(const fs::path& dir) {
     if (!origin) return makeError(file.string() + ": " + origin.message());
     m.origin = *origin;
   }
+  const EnuFrame cityFrame(m.origin);
   const json& blocks = doc["blocks"];
   m.blocks.reserve(blocks.size());
   for (std::size_t i = 0; i < blocks.size(); ++i) {
-    auto info = blockInfo(dir, blocks[i], i);
+    auto info = blockInfo(dir, blocks[i], i, cityFrame);
     if (!info) return makeError(file.string() + ": " + info.message());
     m.triangles += info->triangles;
     m.blocks.push_back(std::move(*info));
@@ -176,6 +212,12 @@ Result<Mesh> loadCityBlock(const CityManifest& manifest, std::size_t i) {
     else
       mesh.texCoords.clear();
     for (auto idx : other.indices) mesh.indices.push_back(idx + base);
+  }
+  if (info.frame == BlockFrame::Anchor) {
+    // From the anchor's ENU frame into the city's, in double: one rotation and offset per block.
+    const EnuToEnu toCity(EnuFrame(info.anchor), EnuFrame(manifest.origin));
+    for (auto& p : mesh.positions) p = toCity.point(p);
+    for (auto& n : mesh.normals) n = glm::vec3(toCity.direction(glm::dvec3(n)));
   }
   mesh.name = info.name;
   mesh.oneSided = true;  // hlodr's own city geometry (generateBlock): wound outwards
