@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "hlod/Camera.h"
+
 namespace renderer {
 
 glm::dmat4 reversedZPerspective(double fovYRadians, double aspect, double zNear, double zFar) {
@@ -20,14 +22,14 @@ FrameView makeFrameView(const glm::dvec3& eye, const glm::dvec3& target, const g
                         double fovYDegrees, double aspect, double zNear, double zFar) {
   FrameView v;
   v.eye = eye;
-  glm::dvec3 f = target - eye;
-  const double len = glm::length(f);
-  f = len > 0.0 ? f / len : glm::dvec3(0, 0, -1);
-  glm::dvec3 s = glm::cross(f, up);
-  if (glm::length(s) < 1e-12)
-    s = glm::cross(f, std::abs(f.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0));
-  s = glm::normalize(s);
-  const glm::dvec3 u = glm::cross(s, f);
+  // The basis of hlod::Camera, which the selectors cull with: where the view is degenerate
+  // (target on the eye, up parallel to the view) both must pick the same fallback, or the
+  // image shows what the frustum culled.
+  hlod::Camera camera;
+  camera.position = eye;
+  camera.target = target;
+  camera.up = up;
+  const glm::dvec3 f = camera.forward(), s = camera.right(), u = camera.trueUp();
   glm::dmat4 r(1.0);
   r[0][0] = s.x;
   r[1][0] = s.y;

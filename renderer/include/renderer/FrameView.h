@@ -17,7 +17,9 @@ struct FrameView {
 // GREATER with a 32-bit float depth buffer: float precision is spent where distances are large.
 glm::dmat4 reversedZPerspective(double fovYRadians, double aspect, double zNear, double zFar);
 
-// Builds the view of a camera at eye looking at target.
+// Builds the view of a camera at eye looking at target: hlod::Camera's forward, right and true
+// up (and its fallbacks when target is on the eye or up is parallel to the view), so that the
+// image is drawn from the camera the selectors culled for.
 FrameView makeFrameView(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up,
                         double fovYDegrees, double aspect, double zNear, double zFar);
 
