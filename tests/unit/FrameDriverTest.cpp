@@ -8,67 +8,16 @@
 #include <memory>
 
 #include "RuntimeTestScene.h"
+#include "SimulatedRenderer.h"
 #include "hlod/CameraPath.h"
 #include "hlod/Loader.h"
 #include "hlod/runtime/FrameDriver.h"
 #include "hlod/runtime/PathRun.h"
 
 using namespace hlod;
+using hlod::test::SimulatedRenderer;
 
 namespace {
-
-class SimulatedRenderer final : public NodeRenderer {
- public:
-  explicit SimulatedRenderer(std::size_t nodes) : onGpu_(nodes) {}
-
-  double msPerTriangle = 1e-4;  // 10 M triangles/s
-  double msPerFrame = 0.5;      // clear, state changes: not proportional to the front
-  double msPerUpload = 1.0;
-
-  void queueUpload(std::uint32_t node, std::shared_ptr<const LocalMesh> mesh) override {
-    pending_.emplace_back(node, std::move(mesh));
-  }
-  void evict(std::uint32_t node) override {
-    onGpu_.set(node, false);
-    std::erase_if(pending_, [&](const auto& p) { return p.first == node; });
-  }
-  Result<UploadReport> upload(double budgetMs, std::uint64_t) override {
-    UploadReport r;
-    while (!pending_.empty() && (r.uploads == 0 || r.ms < budgetMs)) {
-      onGpu_.set(pending_.front().first, true);
-      r.bytes += pending_.front().second->indices.size() * 4;
-      pending_.pop_front();
-      ++r.uploads;
-      r.ms += msPerUpload;
-    }
-    return r;
-  }
-  std::size_t pendingUploads() const override { return pending_.size(); }
-  const Residency& onGpu() const override { return onGpu_; }
-  Result<DrawReport> draw(const Camera&, std::span<const std::uint32_t> front) override {
-    DrawReport d;
-    for (std::uint32_t n : front) {
-      if (!onGpu_.isResident(n)) return makeError("drew a node that is not on the GPU");
-      d.triangles += triangles_.at(n);
-    }
-    d.ms = msPerFrame + msPerTriangle * static_cast<double>(d.triangles);
-    d.gpuMs = d.ms;
-    d.drawCalls = front.size();
-    lastFront.assign(front.begin(), front.end());
-    return d;
-  }
-  Image readback() override { return Image{1, 1, {0, 0, 0, 255}}; }
-
-  void setTriangles(const Skeleton& sk) {
-    for (const NodeInfo& n : sk.nodes) triangles_.push_back(n.numTri);
-  }
-  std::vector<std::uint32_t> lastFront;
-
- private:
-  ResidencySet onGpu_;
-  std::deque<std::pair<std::uint32_t, std::shared_ptr<const LocalMesh>>> pending_;
-  std::vector<std::uint64_t> triangles_;
-};
 
 struct Rig {
   explicit Rig(test::SyntheticCity city = {}, double budgetMs = 33.0)
