@@ -6,6 +6,12 @@
 //   maxMemory > c_memory * sum over resident nodes of cost      (the paper's bound, optional)
 //   residentBytes + bytes of loads in progress <= capBytes       (a hard cap in decoded bytes)
 //
+// Eviction: to make room for a node, nodes less important than it are unloaded, those no longer
+// wanted first, deeper levels first, never one the node's drawing depends on (its ancestors and
+// their siblings: breaking such a group for the node made the two evict each other forever under
+// a still camera); a parent whose children all go may go too. A node larger than the cap less
+// hlod_0 is never loaded and does not hold up the others.
+//
 // hlod_0 nodes are loaded synchronously by loadRoots() and never unloaded (they are what the
 // renderer falls back to). A node is loaded only when its parent is resident, and unloaded only
 // when none of its children are resident, so the resident set stays a tree closed upwards: the
@@ -146,6 +152,7 @@ class Loader final : public Residency {
   double priorityOf(std::uint32_t node) const;  // -1 when neither wanted nor prefetched
   std::uint32_t chooseLocked();
   bool makeRoomLocked(std::uint32_t node, double priority);
+  bool neverFits(std::uint32_t node) const;  // larger than the cap less hlod_0
   void unloadLocked(std::uint32_t node);
   bool hasResidentChildLocked(std::uint32_t node) const;
   void dropPartialLocked(std::uint32_t node);
@@ -171,6 +178,8 @@ class Loader final : public Residency {
   std::unique_ptr<std::atomic<bool>[]> residentFlag_;
   std::vector<std::shared_ptr<const LocalMesh>> resident_;
   std::vector<std::uint8_t> isRoot_;
+  std::uint64_t rootBytes_ = 0;  // memoryBytes of hlod_0, resident for good after loadRoots
+  std::vector<double> below_;    // makeRoomLocked scratch
   std::vector<std::uint8_t> failed_;
   std::unordered_map<std::uint32_t, double> wanted_;
   std::unordered_map<std::uint32_t, double> prefetch_;

@@ -18,7 +18,10 @@ Loader::Loader(const NodeSource& source, LoaderParams params)
       failed_(source.skeleton().nodes.size(), 0) {
   for (std::size_t i = 0; i < resident_.size(); ++i) residentFlag_[i].store(false);
   for (std::uint32_t r : skeleton_.roots) {
-    if (r < isRoot_.size()) isRoot_[r] = 1;
+    if (r < isRoot_.size() && !isRoot_[r]) {
+      isRoot_[r] = 1;
+      rootBytes_ += skeleton_.nodes[r].memoryBytes;
+    }
   }
   if (params_.chunkBytes == 0) params_.chunkBytes = 64 * 1024;
   counters_.capBytes = params_.capBytes;
@@ -236,7 +239,7 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
            (!costOn || params_.c_memory * cost < params_.maxMemory);
   };
   if (fits()) return true;
-  if (capOn && info.memoryBytes > params_.capBytes) return false;
+  if (neverFits(node)) return false;
 
   // Victims less important than the node: kept partial buffers first (cheap to drop), then
   // resident nodes without resident children, lowest priority first, deeper levels first.
@@ -246,39 +249,117 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
     std::uint32_t level;
     std::uint32_t node;
   };
-  std::vector<Victim> victims;
-  for (const auto& [n, part] : partials_) {
-    const double p = priorityOf(n);
-    if (n != node && p < priority) victims.push_back({false, p, skeleton_.nodes[n].level, n});
-  }
-  for (std::uint32_t n = 0; n < resident_.size(); ++n) {
-    if (!resident_[n] || isRoot_[n] || hasResidentChildLocked(n)) continue;
-    const double p = priorityOf(n);
-    if (p < priority) victims.push_back({true, p, skeleton_.nodes[n].level, n});
-  }
-  std::sort(victims.begin(), victims.end(), [](const Victim& a, const Victim& b) {
+  auto better = [](const Victim& a, const Victim& b) {
     if (a.resident != b.resident) return !a.resident;
     if (a.priority != b.priority) return a.priority < b.priority;
     if (a.level != b.level) return a.level > b.level;
     return a.node < b.node;
-  });
-  // Dry run first: evict nothing unless the node then fits.
-  std::size_t take = 0;
-  while (!fits() && take < victims.size()) {
-    const Victim& v = victims[take++];
+  };
+  // A max-heap of the best victim: std::push_heap keeps the largest by `less` on top.
+  auto less = [&](const Victim& a, const Victim& b) { return better(b, a); };
+  std::vector<Victim> heap;
+  auto offer = [&](const Victim& v) {
+    heap.push_back(v);
+    std::push_heap(heap.begin(), heap.end(), less);
+  };
+  for (const auto& [n, part] : partials_) {
+    const double p = priorityOf(n);
+    if (n != node && p < priority) offer({false, p, skeleton_.nodes[n].level, n});
+  }
+  // Never a victim: what the node's own drawing depends on, its ancestors and their siblings
+  // (the selectors draw a node only through its resident parent, and replace a parent by its
+  // visible children only when all of them are resident). Evicting an ancestor's sibling broke
+  // that group, so the node's subtree dropped out of the wanted set (priority -1) until the
+  // sibling, reloaded in place of that subtree, made the group whole again, the subtree came
+  // back and evicted the sibling again: under a still camera, forever.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> dependsOn;  // [first, end) node ranges
+  for (std::uint32_t a = info.parent; a < skeleton_.nodes.size(); a = skeleton_.nodes[a].parent) {
+    const std::uint32_t up = skeleton_.nodes[a].parent;
+    if (up < skeleton_.nodes.size())
+      dependsOn.emplace_back(skeleton_.nodes[up].firstChild,
+                             skeleton_.nodes[up].firstChild + skeleton_.nodes[up].childCount);
+    else
+      dependsOn.emplace_back(a, a + 1);
+  }
+  auto evictable = [&](std::uint32_t n) {
+    if (isRoot_[n]) return false;
+    for (const auto& [first, end] : dependsOn)
+      if (n >= first && n < end) return false;
+    return true;
+  };
+  // What a resident node is worth: its own priority, or that of the most important wanted node
+  // below its siblings, which are drawn only while its group is whole. Valued alone, a group's
+  // member went for a slightly more important node elsewhere; the group's subtrees, no longer
+  // visited, dropped to -1 and went wholesale; the member came back in their place, the subtrees
+  // after it, taking another group's member: round and round under a still camera.
+  // below_[n]: the highest wanted priority in n's resident subtree, n excluded (children follow
+  // their parents in the skeleton, so one pass from the end fills it).
+  below_.assign(resident_.size(), -1.0);
+  for (std::size_t i = resident_.size(); i-- > 0;) {
+    if (!resident_[i]) continue;
+    const std::uint32_t q = skeleton_.nodes[i].parent;
+    if (q < below_.size()) below_[q] = std::max(below_[q], std::max(below_[i], priorityOf(i)));
+  }
+  auto worth = [&](std::uint32_t n) {
+    double p = priorityOf(n);
+    const std::uint32_t q = skeleton_.nodes[n].parent;
+    if (q >= skeleton_.nodes.size()) return p;
+    const NodeInfo& qn = skeleton_.nodes[q];
+    for (std::uint32_t c = qn.firstChild; c < qn.firstChild + qn.childCount && c < below_.size();
+         ++c)
+      if (c != n && resident_[c]) p = std::max(p, below_[c]);
+    return p;
+  };
+  for (std::uint32_t n = 0; n < resident_.size(); ++n) {
+    if (!resident_[n] || !evictable(n) || hasResidentChildLocked(n)) continue;
+    const double p = worth(n);
+    if (p < priority) offer({true, p, skeleton_.nodes[n].level, n});
+  }
+  // Dry run first: evict nothing unless the node then fits. A parent whose last resident child
+  // the dry run takes becomes a victim too, so that a chain of nodes the camera has left can go
+  // whole: taking only the nodes without resident children, a node larger than those never
+  // loaded while the cache stayed full of unwanted ancestors.
+  std::unordered_map<std::uint32_t, std::uint32_t> childrenLeft;
+  std::vector<Victim> taken;
+  while (!fits() && !heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), less);
+    const Victim v = heap.back();
+    heap.pop_back();
+    taken.push_back(v);
     const NodeInfo& vn = skeleton_.nodes[v.node];
     bytes -= vn.memoryBytes;
-    if (v.resident) cost -= vn.cost;
+    if (!v.resident) continue;
+    cost -= vn.cost;
+    const std::uint32_t q = vn.parent;
+    if (q >= resident_.size() || !evictable(q)) continue;
+    auto [left, fresh] = childrenLeft.try_emplace(q, 0u);
+    if (fresh) {
+      const NodeInfo& qn = skeleton_.nodes[q];
+      for (std::uint32_t c = qn.firstChild;
+           c < qn.firstChild + qn.childCount && c < resident_.size(); ++c)
+        left->second += resident_[c] ? 1u : 0u;
+    }
+    if (--left->second == 0) {
+      const double p = worth(q);
+      if (p < priority) offer({true, p, skeleton_.nodes[q].level, q});
+    }
   }
   if (!fits()) return false;
-  for (std::size_t i = 0; i < take; ++i) {
-    if (victims[i].resident) {
-      unloadLocked(victims[i].node);
+  // In the order taken: children before their parents.
+  for (const Victim& v : taken) {
+    if (v.resident) {
+      unloadLocked(v.node);
     } else {
-      dropPartialLocked(victims[i].node);
+      dropPartialLocked(v.node);
     }
   }
   return true;
+}
+
+bool Loader::neverFits(std::uint32_t node) const {
+  // hlod_0 is never unloaded: a node larger than what it leaves of the cap can never load.
+  const std::uint64_t cap = params_.capBytes;
+  return cap > 0 && (rootBytes_ >= cap || skeleton_.nodes[node].memoryBytes > cap - rootBytes_);
 }
 
 std::uint32_t Loader::chooseLocked() {
@@ -320,7 +401,9 @@ std::uint32_t Loader::chooseLocked() {
     if (p >= 0.0 && p >= params_.c_siblingRatio * best && fits(next, p)) chosen = next;
   }
   for (auto it = order_.begin(); chosen == kNoNode && it != order_.end(); ++it) {
-    if (!loadable(it->second)) continue;
+    // A node that can never fit costs no try: four of them at the top of the list would
+    // otherwise stop every node behind them, however small, for as long as they are wanted.
+    if (!loadable(it->second) || neverFits(it->second)) continue;
     if (fits(it->second, it->first))
       chosen = it->second;
     else if (--roomTries == 0)
