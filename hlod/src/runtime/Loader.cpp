@@ -273,9 +273,9 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
   // sibling, reloaded in place of that subtree, made the group whole again, the subtree came
   // back and evicted the sibling again: under a still camera, forever.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> dependsOn;  // [first, end) node ranges
-  for (std::uint32_t a = info.parent; a < skeleton_.nodes.size(); a = skeleton_.nodes[a].parent) {
+  for (std::uint32_t a = info.parent; a != kNoNode; a = skeleton_.nodes[a].parent) {
     const std::uint32_t up = skeleton_.nodes[a].parent;
-    if (up < skeleton_.nodes.size())
+    if (up != kNoNode)
       dependsOn.emplace_back(skeleton_.nodes[up].firstChild,
                              skeleton_.nodes[up].firstChild + skeleton_.nodes[up].childCount);
     else
@@ -298,15 +298,14 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
   for (std::size_t i = resident_.size(); i-- > 0;) {
     if (!resident_[i]) continue;
     const std::uint32_t q = skeleton_.nodes[i].parent;
-    if (q < below_.size()) below_[q] = std::max(below_[q], std::max(below_[i], priorityOf(i)));
+    if (q != kNoNode) below_[q] = std::max(below_[q], std::max(below_[i], priorityOf(i)));
   }
   auto worth = [&](std::uint32_t n) {
     double p = priorityOf(n);
     const std::uint32_t q = skeleton_.nodes[n].parent;
-    if (q >= skeleton_.nodes.size()) return p;
+    if (q == kNoNode) return p;
     const NodeInfo& qn = skeleton_.nodes[q];
-    for (std::uint32_t c = qn.firstChild; c < qn.firstChild + qn.childCount && c < below_.size();
-         ++c)
+    for (std::uint32_t c = qn.firstChild; c < qn.firstChild + qn.childCount; ++c)
       if (c != n && resident_[c]) p = std::max(p, below_[c]);
     return p;
   };
@@ -331,12 +330,11 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
     if (!v.resident) continue;
     cost -= vn.cost;
     const std::uint32_t q = vn.parent;
-    if (q >= resident_.size() || !evictable(q)) continue;
+    if (q == kNoNode || !evictable(q)) continue;
     auto [left, fresh] = childrenLeft.try_emplace(q, 0u);
     if (fresh) {
       const NodeInfo& qn = skeleton_.nodes[q];
-      for (std::uint32_t c = qn.firstChild;
-           c < qn.firstChild + qn.childCount && c < resident_.size(); ++c)
+      for (std::uint32_t c = qn.firstChild; c < qn.firstChild + qn.childCount; ++c)
         left->second += resident_[c] ? 1u : 0u;
     }
     if (--left->second == 0) {
