@@ -4,13 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <utility>
 
 namespace service::server {
 
 std::size_t ApiContext::queued() const {
-  std::size_t n = 0;
-  for (const RenderWorker* w : workers) n += w->queued();
-  return n;
+  return inFlight.load();
 }
 
 namespace {
@@ -66,20 +65,37 @@ bool sendFile(Response& res, const std::filesystem::path& path, const char* type
   return true;
 }
 
+// A place in the render queue, held from admission until the answer is ready (the worker's own
+// task counter would still count a task whose answer has gone out).
+class QueueSlot {
+ public:
+  explicit QueueSlot(std::atomic<std::size_t>* n) : n_(n) {}
+  QueueSlot(QueueSlot&& o) noexcept : n_(std::exchange(o.n_, nullptr)) {}
+  QueueSlot(const QueueSlot&) = delete;
+  ~QueueSlot() {
+    if (n_) --*n_;
+  }
+  explicit operator bool() const { return n_ != nullptr; }
+
+ private:
+  std::atomic<std::size_t>* n_;
+};
+
 // Room in the render queue: past it, 503 with Retry-After (the client tries again).
-bool admit(ApiContext& api, Response& res) {
+QueueSlot admit(ApiContext& api, Response& res) {
   if (api.stopping) {
     sendError(res, {503, "busy", "the server is shutting down"});
-    return false;
+    return QueueSlot(nullptr);
   }
-  if (api.queued() >= api.queueLimit) {
+  if (++api.inFlight > api.queueLimit) {
+    --api.inFlight;
     api.metrics.add("hlodr_rejected_total", "reason=\"queue\"");
     sendError(res, {503, "busy",
                     "the render queue is full (" + std::to_string(api.queueLimit) +
                         " requests); try again"});
-    return false;
+    return QueueSlot(nullptr);
   }
-  return true;
+  return QueueSlot(&api.inFlight);
 }
 
 std::shared_ptr<Job> jobOfKind(ApiContext& api, const std::string& id, const std::string& kind) {
@@ -220,7 +236,8 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
       if (!c) return sendError(res, badRequest(c.message()));
       camera = *c;
     }
-    if (!admit(api, res)) return;
+    auto slot = admit(api, res);
+    if (!slot) return;
     auto a = api.sessions.renderOnce(
         scene, *settings, camera,
         *mode == "realtime" ? hlod::FrameMode::Realtime : hlod::FrameMode::Settled, *image);
@@ -240,7 +257,8 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     if (!scene) return sendError(res, notFound("no scene '" + *id + "'"));
     auto settings = readRenderSettings(*in, api.maxSize, true);
     if (!settings) return sendError(res, settings.error());
-    if (!admit(api, res)) return;
+    auto slot = admit(api, res);
+    if (!slot) return;
     auto made = api.sessions.create(scene, *settings);
     if (!made) return sendError(res, made.error());
     sendJson(res, 201, *made);
@@ -255,7 +273,8 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     if (!still) return sendError(res, badRequest(still.message()));
     auto image = readImageRequest(*in);
     if (!image) return sendError(res, image.error());
-    if (!admit(api, res)) return;
+    auto slot = admit(api, res);
+    if (!slot) return;
     const nlohmann::json camera = in->has("camera") ? in->json()["camera"] : nlohmann::json();
     auto a = api.sessions.frame(req.matches[1], camera, *still, *image);
     if (!a) return sendError(res, a.error());

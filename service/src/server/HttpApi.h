@@ -26,10 +26,11 @@ struct ApiContext {
   std::size_t maxStreams = 16;
   int maxSize = 4096;
   std::atomic<std::size_t> streams{0};
+  std::atomic<std::size_t> inFlight{0};  // render requests admitted and not yet answered
   std::atomic<bool> stopping{false};
   std::function<void(const std::string&)> log;
   bool accessLog = true;
-  std::size_t queued() const;
+  std::size_t queued() const;  // render requests waiting or running
 };
 
 void installRoutes(httplib::Server& http, ApiContext& api);
