@@ -33,7 +33,8 @@ for _ in $(seq 100); do
 done
 scene=$(curl -sf "http://127.0.0.1:$port/api/scenes" | sed -n 's/.*"id":"\([^"]*\)".*/\1/p' | head -n1)
 echo "serve_bench: scene '$scene' from $data, ${seconds}s per run, $(nproc) cores"
-printf "%-6s %5s %8s %9s %9s %11s %12s %6s\n" format conns req/s p50_ms p99_ms render_p50 overhead_p50 errors
+printf "%-6s %5s %8s %9s %9s %11s %10s %12s %6s\n" format conns req/s p50_ms p99_ms render_p50 \
+  queue_p50 overhead_p50 errors
 for format in jpeg png; do
   # Warm the session (first frame loads the front) before timing.
   FORMAT=$format SCENE=$scene wrk -t1 -c1 -d2s -s tests/bench/serve/render.lua \
@@ -43,7 +44,8 @@ for format in jpeg png; do
     line=$(FORMAT=$format SCENE=$scene wrk -t"$threads" -c"$conns" -d"${seconds}s" --latency \
       -s tests/bench/serve/render.lua "http://127.0.0.1:$port" | grep '^RESULT')
     get() { echo "$line" | tr ' ' '\n' | sed -n "s/^$1=//p"; }
-    printf "%-6s %5s %8s %9s %9s %11s %12s %6s\n" "$format" "$conns" "$(get rps)" "$(get p50_ms)" \
-      "$(get p99_ms)" "$(get render_p50_ms)" "$(get overhead_p50_ms)" "$(get errors)"
+    printf "%-6s %5s %8s %9s %9s %11s %10s %12s %6s\n" "$format" "$conns" "$(get rps)" \
+      "$(get p50_ms)" "$(get p99_ms)" "$(get render_p50_ms)" "$(get queue_p50_ms)" \
+      "$(get overhead_p50_ms)" "$(get errors)"
   done
 done

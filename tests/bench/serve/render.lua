@@ -21,6 +21,7 @@ end
 
 function init(args)
   renders = ""   -- per-request render parts in ms, comma-separated (a string crosses threads)
+  queues = ""    -- per-request wait for a render worker, the same way
   errors = 0
 end
 
@@ -33,6 +34,7 @@ function response(status, headers, body)
   if not t then return end
   local sum = 0
   for name, dur in string.gmatch(t, "(%a+);dur=([%d%.]+)") do
+    if name == "queue" then queues = queues .. dur .. "," end
     if name == "select" or name == "upload" or name == "draw" or name == "readback" or
        name == "encode" then
       sum = sum + tonumber(dur)
@@ -42,14 +44,18 @@ function response(status, headers, body)
 end
 
 function done(summary, latency, requests)
-  local all, errs = {}, 0
+  local all, waits, errs = {}, {}, 0
   for _, thread in ipairs(threads) do
     for v in string.gmatch(thread:get("renders") or "", "([^,]+)") do
       table.insert(all, tonumber(v))
     end
+    for v in string.gmatch(thread:get("queues") or "", "([^,]+)") do
+      table.insert(waits, tonumber(v))
+    end
     errs = errs + (thread:get("errors") or 0)
   end
   table.sort(all)
+  table.sort(waits)
   local function pct(list, q)
     if #list == 0 then return 0 end
     return list[math.max(1, math.ceil(q * #list))]
@@ -60,7 +66,7 @@ function done(summary, latency, requests)
   local render50 = pct(all, 0.5)
   io.write(string.format(
     "RESULT format=%s requests=%d errors=%d rps=%.1f p50_ms=%.2f p99_ms=%.2f " ..
-    "render_p50_ms=%.2f overhead_p50_ms=%.2f\n",
+    "render_p50_ms=%.2f queue_p50_ms=%.2f overhead_p50_ms=%.2f\n",
     format, summary.requests, errs + summary.errors.status, rps, p50, p99, render50,
-    p50 - render50))
+    pct(waits, 0.5), p50 - render50))
 end
