@@ -152,4 +152,20 @@ hlod::Image Renderer::readback() {
   return img;
 }
 
+hlod::metrics::Mask Renderer::coverage() {
+  const GlFunctions& g = gl();
+  const int w = options_.width, h = options_.height;
+  std::vector<float> depth(static_cast<std::size_t>(w) * h);
+  g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  g.PixelStorei(GL_PACK_ALIGNMENT, 4);
+  g.ReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+  hlod::metrics::Mask mask{w, h, std::vector<std::uint8_t>(depth.size(), 0)};
+  // Reversed z: the depth buffer is cleared to 0 (the far plane), any geometry is above it.
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      mask.covered[static_cast<std::size_t>(y) * w + x] =
+          depth[static_cast<std::size_t>(h - 1 - y) * w + x] > 0.0f ? 1 : 0;
+  return mask;
+}
+
 }  // namespace renderer

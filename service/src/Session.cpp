@@ -139,6 +139,11 @@ hlod::Image Session::readback() {
   return renderer_->readback();
 }
 
+hlod::metrics::Mask Session::coverage() {
+  context_->makeCurrent();
+  return renderer_->coverage();
+}
+
 hlod::FrameSummary Session::recentSummary() const {
   const std::vector<hlod::FrameRecord> frames(recent().begin(), recent().end());
   return hlod::summarize(frames);

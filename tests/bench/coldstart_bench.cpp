@@ -3,6 +3,7 @@
 // and with the v_time a previous session of the same server left (what `hlodr serve` passes on).
 // Before, the first frame started at v_time 1e-5 and selected every leaf (560 ms at 33 ms).
 //   coldstart_bench [STORE] [--budget-ms 33] [--size 640x360] [--repeat 3]
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -80,6 +81,7 @@ int main(int argc, char** argv) {
   std::printf("%-30s %12s %8s %12s %14s %8s\n", "camera", "measured: ms", "x budget", "triangles",
               "known v: ms", "x budget");
   double known = 0.0;
+  std::vector<double> ratios[2];  // first frame / budget: measured v_time, known v_time
   for (const View& v : views) {
     for (int r = 0; r < repeat; ++r) {
       double ms[2] = {0, 0}, tri = 0;
@@ -108,7 +110,17 @@ int main(int argc, char** argv) {
       }
       std::printf("%-30s %12.1f %8.2f %12.0f %14.1f %8.2f\n", r == 0 ? v.name : "", ms[0],
                   ms[0] / budget, tri, ms[1], ms[1] / budget);
+      for (int pass = 0; pass < 2; ++pass) ratios[pass].push_back(ms[pass] / budget);
     }
+  }
+  // One frame's wall time is noisy on a shared machine: the median and the share within 1.25x
+  // say more than the worst single frame.
+  for (int pass = 0; pass < 2; ++pass) {
+    auto& q = ratios[pass];
+    std::sort(q.begin(), q.end());
+    const auto within = std::count_if(q.begin(), q.end(), [](double x) { return x <= 1.25; });
+    std::printf("%s v_time: median %.2f x budget, max %.2f, %ld of %zu first frames within 1.25x\n",
+                pass == 0 ? "measured" : "known", q[q.size() / 2], q.back(), long(within), q.size());
   }
   return 0;
 }

@@ -1,5 +1,6 @@
 // Renderer tests on a real (software) GL context: golden images with a tolerance, backends that
 // agree, far-from-origin stability, reversed-Z depth precision, and the framebuffer size limit.
+#include <algorithm>
 #include <filesystem>
 #include <thread>
 
@@ -18,6 +19,7 @@ namespace {
 struct Frame {
   hlod::Image image;
   renderer::FrameTiming timing;
+  hlod::metrics::Mask coverage;
 };
 
 // Renders meshes with the camera at eye looking at target (Z up), 160x120.
@@ -39,6 +41,7 @@ Frame renderScene(renderer::GlContext& ctx, const std::vector<hlod::Mesh>& meshe
   Frame f;
   f.timing = (*r)->drawFrame(view, list);
   f.image = (*r)->readback();
+  f.coverage = (*r)->coverage();
   return f;
 }
 
@@ -90,6 +93,33 @@ TEST(Renderer, ShowsBackgroundWhereNothingIsDrawnAndGeometryWhereItIs) {
   EXPECT_NEAR(corner.r, 0.70 * 255, 1.0);  // the default background
   EXPECT_NEAR(corner.g, 0.80 * 255, 1.0);
   EXPECT_NEAR(corner.b, 0.90 * 255, 1.0);
+}
+
+// The study's coverage difference (holes, shards) reads this mask: it once compared colours with
+// a background rounded differently from GL's (179 against 178) and saw no hole anywhere.
+TEST(Renderer, CoverageMaskIsExactlyThePixelsThatShowGeometry) {
+  auto ctx = contextOrSkip(Backend::Auto);
+  ASSERT_TRUE(ctx);
+  auto q = quad(-1, -1, 1, 1, 0, {1, 0, 0, 1});
+  const auto f = renderScene(*ctx, {q}, {0, -0.001, 10}, {0, 0, 0});
+  ASSERT_EQ(f.coverage.width, 160);
+  ASSERT_EQ(f.coverage.height, 120);
+  ASSERT_EQ(f.coverage.covered.size(), 160u * 120u);
+  std::size_t covered = 0, mismatched = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x) {
+      const auto p = pixel(f.image, x, y);
+      const bool red = p.r > 150 && p.g < 40;
+      const bool inMask = f.coverage.covered[std::size_t(y) * 160 + x] != 0;
+      covered += inMask;
+      mismatched += red != inMask;
+    }
+  EXPECT_GT(covered, 400u);  // the quad: about 26 x 26 pixels
+  EXPECT_LT(covered, 160u * 120u / 2);
+  EXPECT_EQ(mismatched, 0u);  // same pixels, same orientation (row 0 at the top)
+  // Nothing drawn: nothing covered, whatever the background colour.
+  const auto empty = renderScene(*ctx, {q}, {0, -0.001, -10}, {0, 0, -20});
+  EXPECT_EQ(std::count(empty.coverage.covered.begin(), empty.coverage.covered.end(), 1), 0);
 }
 
 TEST(Renderer, CullsBackFacesOfOneSidedMeshesOnly) {

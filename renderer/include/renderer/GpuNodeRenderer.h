@@ -25,6 +25,7 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
   hlod::Result<hlod::DrawReport> draw(const hlod::Camera& camera,
                                       std::span<const std::uint32_t> front) override;
   hlod::Image readback() override { return renderer_->readback(); }
+  hlod::metrics::Mask coverage() { return renderer_->coverage(); }
 
   Renderer& renderer() { return *renderer_; }
   const GpuResidency& residency() const { return residency_; }

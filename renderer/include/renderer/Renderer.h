@@ -11,6 +11,7 @@
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
+#include "hlod/metrics/ImageMetrics.h"
 #include "renderer/FrameView.h"
 #include "renderer/GlContext.h"
 #include "renderer/GpuMesh.h"
@@ -61,6 +62,11 @@ class Renderer {
 
   // The last frame's pixels, RGBA8, row 0 at the top.
   hlod::Image readback();
+
+  // Which pixels of the last frame show geometry, from its depth buffer (row 0 at the top):
+  // exact whatever the background is (a clear colour, a sky, fog), where a colour test misses
+  // the pixels where geometry happens to match the background and 8-bit rounding.
+  hlod::metrics::Mask coverage();
 
   const GlFunctions& gl() const { return context_.gl(); }
   const RenderOptions& options() const { return options_; }

@@ -76,6 +76,8 @@ class Session {
                                               const hlod::CameraSample* lookahead = nullptr);
   // The last frame's pixels, RGBA8, row 0 at the top.
   hlod::Image readback();
+  // The last frame's geometry coverage (from depth, exact whatever the background).
+  hlod::metrics::Mask coverage();
 
   hlod::FrameDriver& driver() { return *driver_; }
   const hlod::Selector& selector() const { return driver_->selector(); }

@@ -15,13 +15,6 @@ using namespace hlod::study;
 
 namespace {
 
-std::array<std::uint8_t, 3> backgroundOf(const renderer::Effects& e) {
-  auto c = [](float v) {
-    return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.f, 1.f) * 255));
-  };
-  return {c(e.background.r), c(e.background.g), c(e.background.b)};
-}
-
 // The studied frames: `count` path frames spread evenly from the first to the last.
 std::vector<std::uint64_t> studiedFrames(std::uint64_t total, std::size_t count) {
   std::vector<std::uint64_t> out;
@@ -100,7 +93,6 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   base.height = o.height;
   base.memoryCapBytes = o.memoryCapBytes;
   base.recentFrames = 0;
-  const auto bg = backgroundOf(base.effects);
 
   // The reference: full detail, settled, once per studied frame.
   StudyReport report;
@@ -119,7 +111,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
         return hlod::makeError("reference frame " + std::to_string(f) + ": " + rec.message());
       report.reference.push_back({f, rec->time, rec->gpuMs, rec->triangles});
       refImages.push_back((*s)->readback());
-      refMasks.push_back(hlod::metrics::backgroundMask(refImages.back(), bg));
+      refMasks.push_back((*s)->coverage());
       step("reference frame " + std::to_string(f));
     }
   }
@@ -170,8 +162,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
         auto p = hlod::metrics::psnr(ref, m.image);
         auto ss = hlod::metrics::ssim(ref, m.image);
         auto fm = hlod::metrics::flipMap(ref, m.image);
-        auto cov = hlod::metrics::coverageDifference(refMasks[next],
-                                                     hlod::metrics::backgroundMask(m.image, bg));
+        auto cov = hlod::metrics::coverageDifference(refMasks[next], (*s)->coverage());
         if (!p || !ss || !fm || !cov)
           return hlod::makeError("metrics failed on frame " + std::to_string(f));
         r.psnr = std::min(*p, kMaxPsnr);
