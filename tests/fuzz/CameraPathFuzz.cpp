@@ -25,10 +25,10 @@ void checkSample(const hlod::CameraSample& s) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   auto path = hlod::CameraPath::parse(fuzz::view(data, size));
+  fuzz::report("CameraPath::parse", path);
   if (!path.ok()) return 0;
   const double t0 = path->startTime(), t1 = path->endTime();
-  for (double f : {0.0, 0.25, 0.5, 0.999, 1.0})
-    checkSample(path->sample(t0 + (t1 - t0) * f));
+  for (double f : {0.0, 0.25, 0.5, 0.999, 1.0}) checkSample(path->sample(t0 + (t1 - t0) * f));
   checkSample(path->sample(t0 - 1.0));
   checkSample(path->sample(t1 + 1.0));
   for (double fps : {30.0, 1e-3}) {

@@ -27,6 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   (void)made;
   fuzz::writeFile("city/city.json", fuzz::view(data, size));
   auto manifest = hlod::readCityManifest(city);
+  fuzz::report("readCityManifest", manifest);
   if (!manifest.ok()) return 0;
   for (const auto& b : manifest->blocks) {
     if (!std::isfinite(b.anchor.lat) || !std::isfinite(b.anchor.lon) ||
@@ -37,6 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   for (std::size_t i = 0; i < manifest->blocks.size() && i < 4; ++i) {
     auto mesh = hlod::loadCityBlock(*manifest, i);
+    fuzz::report("loadCityBlock", mesh);
     if (!mesh.ok()) continue;
     for (const auto& p : mesh->positions)
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) std::abort();

@@ -65,4 +65,16 @@ inline Split splitAt(std::string_view input, std::string_view separator) {
   return {input.substr(0, at), input.substr(at + separator.size()), true};
 }
 
+// With HLODR_FUZZ_VERBOSE set, prints what a boundary said of the input (ok, or its error): to
+// see why a seed is rejected. Silent otherwise, so that fuzzing runs at full speed.
+template <class R>
+void report(const char* what, const R& result) {
+  static const bool verbose = std::getenv("HLODR_FUZZ_VERBOSE") != nullptr;
+  if (!verbose) return;
+  if (result.ok())
+    std::fprintf(stderr, "%s: ok\n", what);
+  else
+    std::fprintf(stderr, "%s: %s\n", what, result.message().c_str());
+}
+
 }  // namespace fuzz

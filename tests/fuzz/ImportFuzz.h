@@ -30,11 +30,12 @@ inline void checkModel(const hlod::Model& model) {
 // Imports `main` saved as model.EXT, with `companion` saved beside it as companionName (when
 // given); removes the companion afterwards so that the next input starts without it.
 inline void importAndCheck(const std::string& ext, std::string_view main,
-                           const std::string& companionName = {},
-                           std::string_view companion = {}, bool withCompanion = false) {
+                           const std::string& companionName = {}, std::string_view companion = {},
+                           bool withCompanion = false) {
   if (withCompanion) writeFile(companionName, companion);
   const auto path = writeFile("model." + ext, main);
   auto model = hlod::importModel(path);
+  report("importModel", model);
   if (model.ok()) checkModel(*model);
   if (withCompanion) removeFile(companionName);
 }

@@ -7,21 +7,22 @@
 #include <cstring>
 #include <vector>
 
+#include "FuzzSupport.h"
 #include "hlod/NodeStore.h"
 
 namespace {
 
 void decodeAndCheck(std::span<const std::byte> bytes) {
   auto mesh = hlod::decodePayloadBytes(bytes, glm::dvec3(1.0, -2.0, 3.0));
+  fuzz::report("decodePayloadBytes", mesh);
   if (!mesh.ok()) return;
-  if (mesh->indices.size() % 3 != 0 || mesh->normals.size() != mesh->positions.size())
-    std::abort();
+  if (mesh->indices.size() % 3 != 0 || mesh->normals.size() != mesh->positions.size()) std::abort();
   for (auto i : mesh->indices)
     if (i >= mesh->positions.size()) std::abort();
   for (const auto& p : mesh->positions)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) std::abort();
-  if (mesh->texture && mesh->texture->pixels.size() !=
-                           std::size_t(mesh->texture->width) * mesh->texture->height * 4)
+  if (mesh->texture &&
+      mesh->texture->pixels.size() != std::size_t(mesh->texture->width) * mesh->texture->height * 4)
     std::abort();
 }
 
@@ -35,6 +36,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::memcpy(&memoryBytes, data, 4);
     memoryBytes &= (1u << 24) - 1;
     auto raw = hlod::inflatePayload(input.subspan(4), memoryBytes);
+    fuzz::report("inflatePayload", raw);
     if (raw.ok()) {
       if (raw->size() != memoryBytes) std::abort();
       decodeAndCheck(*raw);

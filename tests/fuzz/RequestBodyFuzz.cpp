@@ -69,6 +69,7 @@ std::set<std::string> with(std::initializer_list<const char*> extra, bool memory
 
 void render(const std::string& body) {
   auto in = JsonInput::parse(body, with({"scene", "camera", "mode", "format", "quality"}, false));
+  fuzz::report("JsonInput::parse", in);
   if (!in || !in->string("scene", 64) || !settings(*in, false) || !image(*in)) return;
   if (!in->choice("mode", "settled", {"settled", "realtime"})) return;
   checkCamera(*in);
@@ -76,12 +77,14 @@ void render(const std::string& body) {
 
 void session(const std::string& body) {
   auto in = JsonInput::parse(body, with({"scene"}, true));
+  fuzz::report("JsonInput::parse", in);
   if (!in || !in->string("scene", 64)) return;
   settings(*in, true);
 }
 
 void frame(const std::string& body) {
   auto in = JsonInput::parse(body, {"camera", "still", "format", "quality"});
+  fuzz::report("JsonInput::parse", in);
   if (!in || !in->boolean("still", false) || !image(*in)) return;
   checkCamera(*in);
 }
@@ -89,6 +92,7 @@ void frame(const std::string& body) {
 void job(const std::string& body) {
   auto in = JsonInput::parse(
       body, with({"scene", "path", "fps", "mode", "video", "frames", "prefetch"}, true));
+  fuzz::report("JsonInput::parse", in);
   if (!in || !in->string("scene", 64) || !settings(*in, true)) return;
   auto fps = in->number("fps", 30.0, 1.0, 240.0);
   auto frames = in->integer("frames", -1, 1, 100000000);
@@ -102,6 +106,7 @@ void job(const std::string& body) {
 void study(const std::string& body) {
   auto in = JsonInput::parse(body, {"scene", "path", "budgets", "selectors", "ssePx", "width",
                                     "height", "frames", "fps", "mode", "strips"});
+  fuzz::report("JsonInput::parse", in);
   if (!in || !in->string("scene", 64)) return;
   auto budgets = service::server::numbers(*in, "budgets", {33.0}, 1.0, 10000.0);
   auto sse = service::server::numbers(*in, "ssePx", {16.0}, 0.1, 1000.0);
@@ -110,7 +115,8 @@ void study(const std::string& body) {
   for (double s : *sse) check(s >= 0.1 && s <= 1000.0);
   if (!in->integer("width", 640, 16, kMaxSize) || !in->integer("height", 360, 16, kMaxSize) ||
       !in->integer("frames", 24, 1, 1000) || !in->number("fps", 30.0, 1.0, 240.0) ||
-      !in->integer("strips", 3, 0, 10) || !in->choice("mode", "settled", {"settled", "realtime", "both"}))
+      !in->integer("strips", 3, 0, 10) ||
+      !in->choice("mode", "settled", {"settled", "realtime", "both"}))
     return;
   path(*in);
 }
@@ -121,11 +127,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size == 0) return 0;
   const std::string body(fuzz::view(data + 1, size - 1));
   switch (data[0] % 5) {
-    case 0: render(body); break;
-    case 1: session(body); break;
-    case 2: frame(body); break;
-    case 3: job(body); break;
-    default: study(body); break;
+    case 0:
+      render(body);
+      break;
+    case 1:
+      session(body);
+      break;
+    case 2:
+      frame(body);
+      break;
+    case 3:
+      job(body);
+      break;
+    default:
+      study(body);
+      break;
   }
   return 0;
 }

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <vector>
 
+#include "FuzzSupport.h"
 #include "hlod/NodeStore.h"
 #include "store/ByteIO.h"
 
@@ -54,6 +55,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::memcpy(bytes.data() + size - 8, &sum, 8);
   }
   auto decoded = hlod::decodeSkeleton(bytes);
+  fuzz::report("decodeSkeleton", decoded);
   if (decoded.ok()) checkGuarantees(*decoded);
   return 0;
 }

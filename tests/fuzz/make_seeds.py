@@ -33,12 +33,12 @@ put("obj", "triangle.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
 put("obj", "quad-uv-normal.obj",
     "# quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
     "vn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\n")
-put("obj", "negative-index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nf 1//1 2//1 3//1\n")
+put("obj", "negative-index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf -3 -2 -1\nf 1//1 2//-1 3//1\n")
 put("obj", "materials.obj",
     "mtllib model.mtl\no cube\ng side\nusemtl red\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
     "v 0 0 1\nv 1 0 1\nvt 0 0\nvt 1 1\nusemtl tex\nf 1/1 2/2 3/1\ns off\nusemtl red\n"
     "f 1 4 5 6\nf 2 3 6\n\n@@MTL@@\n" + MTL)
-put("obj", "crlf-continuation.obj", "v 0 0 0\r\nv 1e3 0 \\\n 0\r\nv 0 1 -2.5e-1\r\nf 1 2 3\r\n")
+put("obj", "crlf.obj", "v 0 0 0\r\nv 1e3 0 0\r\nv 0 1 -2.5e-1\r\nf 1 2 3\r\n")
 
 # --- PLY ---
 PLY_HEAD = "ply\nformat {fmt} 1.0\ncomment TextureFile texture.png\nelement vertex {n}\n{props}" \
@@ -227,7 +227,7 @@ put("city_manifest", "anchored.json", json.dumps(
 put("city_manifest", "antimeridian.json", json.dumps(
     {"format": "hlodr-city", "version": 1, "origin": {"lat": 0, "lon": 179.999},
      "blocks": [dict(block, frame="anchor", anchor={"lat": 0, "lon": -179.999}),
-                dict(block, texture="block_0000.ply")]}))
+                dict(block, name="b3")]}))
 
 # --- request bodies: first byte the endpoint (0 render, 1 sessions, 2 frame, 3 jobs, 4 studies) ---
 cam = {"position": [0, -50, 20], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 50}
