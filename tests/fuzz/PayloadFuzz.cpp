@@ -1,5 +1,5 @@
 // A node payload, both as payload.bin stores it and as it is decoded: the input is inflated
-// (raw DEFLATE, for a decoded size named by its first 4 bytes, at most 16 MiB) and the result
+// (raw DEFLATE, for a decoded size named by its first 4 bytes, at most 1 MiB) and the result
 // decoded, and the input itself is decoded as an uncompressed payload. A decoded mesh must be
 // what decodePayloadBytes promises: finite values, indices in range.
 #include <cmath>
@@ -34,7 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size >= 4) {
     std::uint32_t memoryBytes = 0;
     std::memcpy(&memoryBytes, data, 4);
-    memoryBytes &= (1u << 24) - 1;
+    memoryBytes &= (1u << 20) - 1;
     auto raw = hlod::inflatePayload(input.subspan(4), memoryBytes);
     fuzz::report("inflatePayload", raw);
     if (raw.ok()) {
