@@ -1,7 +1,17 @@
 #!/usr/bin/env bash
 # Installs what is missing, then configures and builds hlodr into build/ (Release with debug info).
+#   scripts/build.sh             gcc, into build/ (tests and benchmarks included)
+#   scripts/build.sh --sanitize  clang with AddressSanitizer + UndefinedBehaviorSanitizer and the
+#                                libFuzzer targets, into build-asan/ (tests, no benchmarks)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
+if [ "${1:-}" = "--sanitize" ]; then
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHLODR_WERROR=ON \
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+    -DHLODR_SANITIZE=ON -DHLODR_BUILD_BENCHES=OFF >/dev/null
+  cmake --build build-asan -j"$(nproc)"
+  exit 0
+fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHLODR_WERROR=ON >/dev/null
 cmake --build build -j"$(nproc)"

@@ -1,7 +1,13 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the whole test suite (unit, GL, service and browser tests).
+# Installs what is missing, builds, and runs the whole test suite (unit, GL, hard cases, service,
+# fuzz corpora and browser tests); then the same suite built with ASan + UBSan (build-asan/), and
+# a fuzz smoke of 20 s per target. CI runs all of it.
+#   scripts/test.sh            everything
+#   scripts/test.sh --quick    the gcc build and suite only (for developers)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+quick=0
+[ "${1:-}" = "--quick" ] && quick=1
 scripts/build.sh
 # The browser test's node module, playwright-core, is kept in the repository (tests/web/vendor/):
 # installed from there when missing, with no network at all.
@@ -12,3 +18,10 @@ else
 fi
 # Software GL here: tests that render use Mesa's llvmpipe through EGL surfaceless or OSMesa.
 ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 600
+[ "$quick" = 1 ] && exit 0
+
+echo "test: the sanitizer build (clang, ASan + UBSan) and its suite"
+scripts/build.sh --sanitize
+(. scripts/sanitize-env.sh && ctest --test-dir build-asan --output-on-failure -j"$(nproc)" --timeout 900)
+echo "test: fuzz smoke, 20 s per target"
+scripts/fuzz.sh 20

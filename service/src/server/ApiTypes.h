@@ -64,6 +64,12 @@ struct ImageRequest {
 };
 ApiResult<ImageRequest> readImageRequest(const JsonInput& in);
 
+// A list of numbers in [lo, hi] (the study's budgets, thresholds); fallback when absent.
+ApiResult<std::vector<double>> numbers(const JsonInput& in, const char* name,
+                                       std::vector<double> fallback, double lo, double hi);
+// The "path" field of a job or a study: {"kind", "duration"} or {"keyframes": [...]}.
+ApiResult<nlohmann::json> readPathSpec(const JsonInput& in);
+
 struct FrameAnswer {
   std::vector<std::uint8_t> bytes;
   renderer::ImageFormat format = renderer::ImageFormat::Jpeg;

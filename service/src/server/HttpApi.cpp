@@ -141,43 +141,6 @@ void jobRoutes(httplib::Server& http, ApiContext& api, const std::string& collec
   });
 }
 
-// A list of numbers in a range (the study's budgets, thresholds).
-ApiResult<std::vector<double>> numbers(const JsonInput& in, const char* name,
-                                       std::vector<double> fallback, double lo, double hi) {
-  if (!in.has(name)) return fallback;
-  const auto& v = in.json()[name];
-  const std::string err = std::string(name) + ": must be a list of 1..16 numbers in " +
-                          std::to_string(lo).substr(0, 5) + ".." + std::to_string(hi).substr(0, 6);
-  if (!v.is_array() || v.empty() || v.size() > 16) return badRequest(err);
-  std::vector<double> out;
-  for (const auto& x : v) {
-    if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < lo ||
-        x.get<double>() > hi)
-      return badRequest(err);
-    out.push_back(x.get<double>());
-  }
-  return out;
-}
-
-// The "path" field of a job or a study: {"kind", "duration"} or {"keyframes": [...]}.
-ApiResult<nlohmann::json> readPathSpec(const JsonInput& in) {
-  if (!in.has("path")) return badRequest("path: is required");
-  const nlohmann::json& path = in.json()["path"];
-  if (path.is_object() && path.contains("kind")) {
-    auto p = JsonInput::of(path, "path", {"kind", "duration"});
-    if (!p) return badRequest(p.message());
-    auto kind = p->choice("kind", "", {"walk-fly", "drive", "orbit"});
-    auto duration = p->number("duration", 0.0, 1.0, 3600.0);
-    if (!kind) return badRequest(kind.message());
-    if (!duration) return badRequest(duration.message());
-    nlohmann::json spec = {{"kind", *kind}};
-    if (p->has("duration")) spec["duration"] = *duration;
-    return spec;
-  }
-  if (path.is_object() && path.contains("keyframes")) return path;
-  return badRequest("path: must be {\"kind\": ...} or {\"keyframes\": [...]}");
-}
-
 // One slot of --max-streams, given back when the stream ends or its client goes away.
 struct StreamSlot {
   explicit StreamSlot(std::atomic<std::size_t>& n) : count(n) {}

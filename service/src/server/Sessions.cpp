@@ -308,7 +308,9 @@ void SessionManager::shutdown() {
     std::lock_guard lock(mutex_);
     all.swap(live_);
   }
-  for (auto& [id, live] : all) {
+  // Not a structured binding: clang 14 cannot capture one in a lambda.
+  for (auto& entry : all) {
+    const std::shared_ptr<Live>& live = entry.second;
     live->closed = true;
     workers_[live->worker]->post([live](renderer::GlContext&) { live->session.reset(); });
   }

@@ -1,0 +1,252 @@
+#!/usr/bin/env python3
+"""Writes the hand-made seeds of the fuzz corpora (tests/fuzz/corpus/NAME/seed-*): small valid
+inputs of every format and feature a target reads, so that fuzzing starts from inside the
+parsers. Inputs the fuzzer found (crash-*, and any kept by hand) live beside them and are never
+touched here. Run again after changing a format; the output is deterministic."""
+import base64
+import json
+import os
+import struct
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def put(target, name, data):
+    folder = os.path.join(HERE, "corpus", target)
+    os.makedirs(folder, exist_ok=True)
+    if isinstance(data, str):
+        data = data.encode()
+    with open(os.path.join(folder, "seed-" + name), "wb") as f:
+        f.write(data)
+
+
+# --- OBJ (+ MTL after a "@@MTL@@" line) ---
+MTL = """newmtl red
+Kd 0.8 0.1 0.1
+d 1.0
+newmtl tex
+Kd 1 1 1
+map_Kd texture.png
+"""
+put("obj", "triangle.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+put("obj", "quad-uv-normal.obj",
+    "# quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+    "vn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\n")
+put("obj", "negative-index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf -3 -2 -1\nf 1//1 2//-1 3//1\n")
+put("obj", "materials.obj",
+    "mtllib model.mtl\no cube\ng side\nusemtl red\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+    "v 0 0 1\nv 1 0 1\nvt 0 0\nvt 1 1\nusemtl tex\nf 1/1 2/2 3/1\ns off\nusemtl red\n"
+    "f 1 4 5 6\nf 2 3 6\n\n@@MTL@@\n" + MTL)
+put("obj", "crlf.obj", "v 0 0 0\r\nv 1e3 0 0\r\nv 0 1 -2.5e-1\r\nf 1 2 3\r\n")
+
+# --- PLY ---
+PLY_HEAD = "ply\nformat {fmt} 1.0\ncomment TextureFile texture.png\nelement vertex {n}\n{props}" \
+           "element face {f}\nproperty list uchar int vertex_indices\n{faceprops}end_header\n"
+put("ply", "ascii.ply", PLY_HEAD.format(
+    fmt="ascii", n=3, f=1, faceprops="",
+    props="property float x\nproperty float y\nproperty float z\n") + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+put("ply", "ascii-normals-uv.ply", PLY_HEAD.format(
+    fmt="ascii", n=4, f=2, faceprops="",
+    props="property double x\nproperty double y\nproperty double z\nproperty float nx\n"
+          "property float ny\nproperty float nz\nproperty float s\nproperty float t\n") +
+    "0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n3 0 1 2\n3 0 2 3\n")
+head = PLY_HEAD.format(fmt="binary_little_endian", n=3, f=1, faceprops="",
+                       props="property float x\nproperty float y\nproperty float z\n"
+                             "property uchar red\nproperty uchar green\nproperty uchar blue\n")
+body = b"".join(struct.pack("<3f3B", *v, 200, 100, 50) for v in [(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+put("ply", "binary-le-colour.ply", head.encode() + body + struct.pack("<B3i", 3, 0, 1, 2))
+head = PLY_HEAD.format(fmt="binary_big_endian", n=4, f=1, faceprops="property uchar flags\n",
+                       props="property double x\nproperty double y\nproperty double z\n")
+body = b"".join(struct.pack(">3d", *v) for v in [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)])
+put("ply", "binary-be-double-quad.ply", head.encode() + body + struct.pack(">B4iB", 4, 0, 1, 2, 3, 7))
+
+# --- OFF ---
+put("off", "triangle.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+put("off", "quad-comments.off", "OFF\n# a quad\n4 1 4\n\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n")
+put("off", "coff.off", "COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n"
+    "3 0 1 2 255 255 255\n")
+put("off", "noff.off", "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n")
+put("off", "inline-counts.off", "OFF 4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n")
+
+# --- STL ---
+put("stl", "ascii.stl", "solid tri\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+    "vertex 0 1 0\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 1 0 0\n"
+    "vertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid tri\n")
+tris = [((0, 0, 1), (0, 0, 0), (1, 0, 0), (0, 1, 0)), ((0, 0, 1), (1, 0, 0), (1, 1, 0), (0, 1, 0))]
+put("stl", "binary.stl", b"binary stl".ljust(80, b"\0") + struct.pack("<I", len(tris)) +
+    b"".join(struct.pack("<12fH", *[c for v in t for c in v], 0) for t in tris))
+# A binary file whose header begins with "solid" (some exporters write that).
+put("stl", "binary-solid-header.stl", b"solid but binary".ljust(80, b" ") + struct.pack("<I", 1) +
+    struct.pack("<12fH", *[c for v in tris[0] for c in v], 0))
+
+
+# --- glTF and GLB ---
+def gltf_doc(uri, extra_nodes=False, textured=False):
+    pos = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    nrm = struct.pack("<9f", 0, 0, 1, 0, 0, 1, 0, 0, 1)
+    uv = struct.pack("<6f", 0, 0, 1, 0, 0, 1)
+    idx = struct.pack("<3H", 0, 1, 2) + b"\0\0"
+    buf = pos + nrm + uv + idx
+    doc = {
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2},
+                                    "indices": 3, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 0.2, 1]}}],
+        "buffers": [{"byteLength": len(buf)}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 36, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 72, "byteLength": 24},
+                        {"buffer": 0, "byteOffset": 96, "byteLength": 6}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 1, 0]},
+            {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"},
+            {"bufferView": 3, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+    }
+    if uri is not None:
+        doc["buffers"][0]["uri"] = uri
+    if extra_nodes:
+        doc["scenes"][0]["nodes"] = [1]
+        doc["nodes"] = [{"mesh": 0, "translation": [1, 2, 3], "rotation": [0, 0, 0.7071068, 0.7071068],
+                         "scale": [2, 2, 2]},
+                        {"children": [0, 2], "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 5, 0, 0, 1]},
+                        {"mesh": 0}]
+    if textured:
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+        doc["textures"] = [{"source": 0}]
+        doc["images"] = [{"uri": "texture.png"}]
+    return doc, buf
+
+
+doc, buf = gltf_doc("data:application/octet-stream;base64," + base64.b64encode(
+    gltf_doc(None)[1]).decode())
+put("gltf", "embedded.gltf", json.dumps(doc))
+doc, buf = gltf_doc("model.bin", extra_nodes=True)
+put("gltf", "external-buffer-nodes.gltf", json.dumps(doc).encode() + b"\n@@BIN@@\n" + buf)
+doc, buf = gltf_doc("model.bin", textured=True)
+put("gltf", "external-buffer-texture.gltf", json.dumps(doc).encode() + b"\n@@BIN@@\n" + buf)
+doc, _ = gltf_doc("data:application/octet-stream;base64," + base64.b64encode(buf).decode())
+del doc["meshes"][0]["primitives"][0]["indices"]
+put("gltf", "no-indices.gltf", json.dumps(doc))
+
+
+def glb(doc, buf):
+    j = json.dumps(doc).encode()
+    j += b" " * (-len(j) % 4)
+    buf += b"\0" * (-len(buf) % 4)
+    chunks = struct.pack("<I4s", len(j), b"JSON") + j + struct.pack("<I4s", len(buf), b"BIN\0") + buf
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
+
+
+doc, buf = gltf_doc(None)
+put("glb", "triangle.glb", glb(doc, buf))
+doc, buf = gltf_doc(None, extra_nodes=True)
+put("glb", "nodes.glb", glb(doc, buf))
+
+# --- skeleton.bin (format in hlod/include/hlod/NodeStore.h; the target fixes the checksum) ---
+
+
+def node(parent, first, count, level, payload_off, payload_size, memory):
+    b = struct.pack("<5I", parent, first, count, level, 0)
+    b += struct.pack("<9d", -1, -1, 0, 1, 1, 2, 0, 0, 1)  # bounds min, max, centre
+    b += struct.pack("<2I", 12, 0) + struct.pack("<2d", 1.5, 3.0) + struct.pack("<3f", 0, 0, 1)
+    b += struct.pack("<d", 0.25) + struct.pack("<2Q", payload_off, payload_size)
+    b += struct.pack("<I", 0x12345678) + struct.pack("<Q", memory)
+    return b
+
+
+def skeleton(nodes, roots, payload_bytes, name=b"meshopt"):
+    b = b"HLODSKEL" + struct.pack("<II", 2, 0x01020304)
+    b += struct.pack("<dId", 3.0, 2000, 0.1) + struct.pack("<I", len(name)) + name
+    b += struct.pack("<QIdQII", 24, 1, 0.5, payload_bytes, len(nodes), len(roots))
+    b += b"".join(nodes) + b"".join(struct.pack("<I", r) for r in roots)
+    return b + struct.pack("<Q", 0)  # checksum: the target computes it
+
+
+NO = 0xFFFFFFFF
+put("skeleton", "one-node.bin", skeleton([node(NO, 0, 0, 0, 0, 100, 400)], [0], 100))
+put("skeleton", "tree.bin", skeleton(
+    [node(NO, 2, 2, 0, 0, 100, 400), node(NO, 0, 0, 0, 100, 50, 200),
+     node(0, 0, 0, 1, 150, 60, 300), node(0, 4, 1, 1, 210, 70, 300), node(3, 0, 0, 2, 280, 20, 80)],
+    [0, 1], 300, name=b"openmesh"))
+
+
+# --- node payloads: the raw form, and "u32 decoded size + raw DEFLATE" as payload.bin holds it ---
+def payload(vc_positions, indices, uv=False, tex=(0, 0), flags=0):
+    vc = len(vc_positions)
+    b = struct.pack("<7I", 0x4C504C48, 1, vc, len(indices), flags | (1 if uv else 0), *tex)
+    b += struct.pack("<4f", 1, 0.5, 0.25, 1)
+    b += b"".join(struct.pack("<3f", *p) for p in vc_positions)
+    b += b"".join(struct.pack("<3f", 0, 0, 1) for _ in vc_positions)
+    if uv:
+        b += b"".join(struct.pack("<2f", p[0], p[1]) for p in vc_positions)
+    b += b"".join(struct.pack("<I", i) for i in indices)
+    b += bytes(range(4 * tex[0] * tex[1]))
+    return b
+
+
+def deflated(raw):
+    c = zlib.compressobj(1, zlib.DEFLATED, -15)
+    return struct.pack("<I", len(raw)) + c.compress(raw) + c.flush()
+
+
+tri = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]
+quad = tri + [(1, 1, 0)]
+put("payload", "raw-triangle.bin", payload(tri, [0, 1, 2]))
+put("payload", "raw-textured.bin", payload(quad, [0, 1, 2, 1, 3, 2], uv=True, tex=(2, 2), flags=2))
+put("payload", "deflated-triangle.bin", deflated(payload(tri, [0, 1, 2])))
+put("payload", "deflated-textured.bin", deflated(payload(quad, [0, 1, 2, 1, 3, 2], uv=True, tex=(4, 2))))
+
+# --- camera paths ---
+key = lambda t, p, tg, **kw: dict(time=t, position=p, target=tg, **kw)
+put("camera_path", "two-keys.json", json.dumps({"keyframes": [
+    key(0, [0, -10, 2], [0, 0, 0]), key(5, [10, 0, 2], [0, 0, 0], up=[0, 0, 1], fov=45)]}))
+put("camera_path", "bare-array.json", json.dumps([
+    key(0, [0, 0, 1.7], [1, 0, 1.7]), key(1, [1, 0, 1.7], [2, 0, 1.7]),
+    key(3, [1, 5, 30], [1, 6, 0], fov=70), key(4, [1, 5, 30.5], [1, 6, 0])]))
+put("camera_path", "loop.json", json.dumps({"keyframes": [
+    key(0, [10, 0, 5], [0, 0, 0]), key(1, [0, 10, 5], [0, 0, 0]), key(2, [-10, 0, 5], [0, 0, 0]),
+    key(3, [0, -10, 5], [0, 0, 0]), key(4, [10, 0, 5], [0, 0, 0])]}))
+put("camera_path", "far-from-origin.json", json.dumps({"keyframes": [
+    key(86400.0, [6378137.0, 0.001, 0], [6378137.0, 10, 0], up=[1, 0, 0]),
+    key(86400.016666666, [6378137.0, 0.002, 0], [6378137.0, 10, 0], up=[1, 0, 0])]}))
+
+# --- city manifests (the target's folder holds block_0000.ply) ---
+block = dict(name="block_0000", mesh="block_0000.ply", triangles=1, bounds=[[0, 0, 0], [10, 10, 5]])
+put("city_manifest", "one-block.json", json.dumps(
+    {"format": "hlodr-city", "version": 1, "seed": 7, "blocks": [block]}))
+put("city_manifest", "anchored.json", json.dumps(
+    {"format": "hlodr-city", "version": 1, "origin": {"lat": 51.9, "lon": 4.46, "height": 2},
+     "blocks": [dict(block, frame="anchor", anchor={"lat": 51.9001, "lon": 4.4601}),
+                dict(block, name="b2", frame="city", anchor={"lat": -89.9, "lon": 179.99})]}))
+put("city_manifest", "antimeridian.json", json.dumps(
+    {"format": "hlodr-city", "version": 1, "origin": {"lat": 0, "lon": 179.999},
+     "blocks": [dict(block, frame="anchor", anchor={"lat": 0, "lon": -179.999}),
+                dict(block, name="b3")]}))
+
+# --- request bodies: first byte the endpoint (0 render, 1 sessions, 2 frame, 3 jobs, 4 studies) ---
+cam = {"position": [0, -50, 20], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 50}
+put("request_body", "render.json", b"\0" + json.dumps(
+    {"scene": "city", "width": 320, "height": 240, "budgetMs": 20, "selector": "sse", "ssePx": 4,
+     "camera": cam, "mode": "realtime", "format": "png", "quality": 90}).encode())
+put("request_body", "render-empty.json", b"\0")
+put("request_body", "session.json", b"\1" + json.dumps(
+    {"scene": "city", "width": 640, "height": 480, "memoryMb": 64, "selector": "fs"}).encode())
+put("request_body", "frame.json", b"\2" + json.dumps(
+    {"camera": {"position": [1, 2, 3], "target": [1, 2, 0]}, "still": True, "format": "jpeg",
+     "quality": 50}).encode())
+put("request_body", "job-kind.json", b"\3" + json.dumps(
+    {"scene": "city", "path": {"kind": "orbit", "duration": 10}, "fps": 24, "mode": "settled",
+     "video": True, "frames": 100, "prefetch": True}).encode())
+put("request_body", "job-keyframes.json", b"\3" + json.dumps(
+    {"scene": "city", "path": {"keyframes": [key(0, [0, -10, 2], [0, 0, 0]),
+                                             key(2, [5, -10, 2], [0, 0, 0], fov=40)]}}).encode())
+put("request_body", "study.json", b"\4" + json.dumps(
+    {"scene": "city", "path": {"kind": "walk-fly"}, "budgets": [10, 33, 100], "selectors":
+     ["lakhia", "sse"], "ssePx": [2, 8], "width": 160, "height": 90, "frames": 12, "fps": 30,
+     "mode": "both", "strips": 2}).encode())
