@@ -108,4 +108,14 @@ Result<SurfaceDistance> surfaceDistance(const Mesh& a, const Mesh& b, std::size_
   return d;
 }
 
+Result<std::vector<double>> pointDistances(const Mesh& surface,
+                                           const std::vector<glm::dvec3>& points) {
+  Result<std::vector<Triangle>> tris = triangles(surface, "surface");
+  if (!tris) return tris.error();
+  const TriangleBvh bvh(std::move(*tris));
+  std::vector<double> out(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) out[i] = bvh.distance(points[i]);
+  return out;
+}
+
 }  // namespace hlod::metrics

@@ -81,8 +81,14 @@ double pointTriangleDistance(const glm::dvec3& p, const Triangle& t) {
 
 TriangleBvh::TriangleBvh(std::vector<Triangle> triangles) : triangles_(std::move(triangles)) {
   assert(!triangles_.empty());
+  ids_.resize(triangles_.size());
+  for (std::uint32_t i = 0; i < ids_.size(); ++i) ids_[i] = i;
   nodes_.reserve(2 * triangles_.size() / kLeafSize + 1);
   build(0, static_cast<std::uint32_t>(triangles_.size()));
+  // The build ordered ids_; the triangles follow, so that a leaf's triangles are contiguous.
+  std::vector<Triangle> ordered(triangles_.size());
+  for (std::size_t i = 0; i < ids_.size(); ++i) ordered[i] = triangles_[ids_[i]];
+  triangles_ = std::move(ordered);
 }
 
 // Median split along the longest axis of the centroids' box; the left child is stored right
@@ -92,8 +98,9 @@ std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
   nodes_.push_back({});
   Aabb box, centres;
   for (std::uint32_t i = first; i < first + count; ++i) {
-    for (const glm::dvec3& v : triangles_[i]) box.extend(v);
-    centres.extend((triangles_[i][0] + triangles_[i][1] + triangles_[i][2]) / 3.0);
+    const Triangle& t = triangles_[ids_[i]];
+    for (const glm::dvec3& v : t) box.extend(v);
+    centres.extend((t[0] + t[1] + t[2]) / 3.0);
   }
   nodes_[index].box = box;
   if (count <= kLeafSize) {
@@ -104,10 +111,12 @@ std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
   const glm::dvec3 extent = centres.size();
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
   const std::uint32_t half = count / 2;
-  const auto centre = [axis](const Triangle& t) { return t[0][axis] + t[1][axis] + t[2][axis]; };
-  std::nth_element(triangles_.begin() + first, triangles_.begin() + first + half,
-                   triangles_.begin() + first + count,
-                   [&](const Triangle& l, const Triangle& r) { return centre(l) < centre(r); });
+  const auto centre = [&](std::uint32_t id) {
+    const Triangle& t = triangles_[id];
+    return t[0][axis] + t[1][axis] + t[2][axis];
+  };
+  std::nth_element(ids_.begin() + first, ids_.begin() + first + half, ids_.begin() + first + count,
+                   [&](std::uint32_t l, std::uint32_t r) { return centre(l) < centre(r); });
   build(first, half);
   const std::uint32_t right = build(first + half, count - half);
   nodes_[index].first = right;
@@ -142,6 +151,28 @@ double TriangleBvh::distance(const glm::dvec3& p) const {
     if ((leftFirst ? dl : dr) < best2) stack[top++] = nearer;
   }
   return std::sqrt(best2);
+}
+
+std::vector<std::uint32_t> TriangleBvh::nearest(const glm::dvec3& p, double slack) const {
+  assert(slack >= 0.0);
+  const double limit = distance(p) + slack;
+  const double limit2 = limit * limit;
+  std::vector<std::uint32_t> out;
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const Node& node = nodes_[stack.back()];
+    stack.pop_back();
+    if (boxDistance2(p, node.box) > limit2) continue;
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+        if (pointTriangleDistance2(p, triangles_[i]) <= limit2) out.push_back(ids_[i]);
+      continue;
+    }
+    stack.push_back(static_cast<std::uint32_t>(&node - nodes_.data()) + 1);
+    stack.push_back(node.first);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace hlod::metrics

@@ -25,6 +25,10 @@ class TriangleBvh {
   // The distance from p to the closest point of any of the triangles.
   double distance(const glm::dvec3& p) const;
 
+  // The indices (into the constructor's vector) of the triangles no farther from p than the
+  // closest one plus slack (>= 0): over an edge or a corner, every face that meets there.
+  std::vector<std::uint32_t> nearest(const glm::dvec3& p, double slack) const;
+
  private:
   struct Node {
     Aabb box;
@@ -33,7 +37,8 @@ class TriangleBvh {
   };
   std::uint32_t build(std::uint32_t first, std::uint32_t count);
 
-  std::vector<Triangle> triangles_;
+  std::vector<Triangle> triangles_;  // in leaf order
+  std::vector<std::uint32_t> ids_;   // ids_[i]: the constructor's index of triangles_[i]
   std::vector<Node> nodes_;
 };
 

@@ -4,6 +4,7 @@
 // Error on Simplified Surfaces", Computer Graphics Forum 17(2), 1998).
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
@@ -29,5 +30,10 @@ struct SurfaceDistance {
 Result<SurfaceDistance> surfaceDistance(const Mesh& a, const Mesh& b,
                                         std::size_t samplesPerMesh = 100000,
                                         std::uint64_t seed = 1);
+
+// The distance of each point to the closest point of surface's triangles (the same checks on
+// surface as surfaceDistance).
+Result<std::vector<double>> pointDistances(const Mesh& surface,
+                                           const std::vector<glm::dvec3>& points);
 
 }  // namespace hlod::metrics
