@@ -6,12 +6,13 @@
 
 namespace hlod {
 
-using ReduceFn =
-    std::function<Simplifier::ReducedShape(const Simplifier::Shape&, std::size_t target)>;
+using ReduceFn = std::function<Simplifier::ReducedShape(const Simplifier::Shape&,
+                                                        std::size_t target, double errorLimit)>;
 
-// Reduces shape toward targetTriangles with reduce (vertex clustering finishes where it stalls),
-// then checks the result against the shape's own triangles and repairs it (see the .cpp).
+// Reduces shape toward targetTriangles with reduce (vertex clustering finishes where it stalls,
+// within errorLimit), then checks the result against the shape's own triangles and repairs it
+// (see the .cpp): no part of the surface is left farther than errorLimit from it.
 Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size_t targetTriangles,
-                                       const ReduceFn& reduce);
+                                       double errorLimit, const ReduceFn& reduce);
 
 }  // namespace hlod

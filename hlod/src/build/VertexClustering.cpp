@@ -76,18 +76,22 @@ Simplifier::ReducedShape clusterOnGrid(const Simplifier::Shape& shape,
     if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
     // A triangle that clustering turned over (its representatives wound against the triangle it
     // came from) would face away from its surface: culled, a hole; seen from behind, a shard.
+    // It is wound back (dropping it could take a cut vertex's last triangle).
     const glm::dvec3& p0 = shape.positions[indices[i]];
     const glm::dvec3 before =
         glm::cross(shape.positions[indices[i + 1]] - p0, shape.positions[indices[i + 2]] - p0);
     const glm::dvec3& r0 = shape.positions[rep[c[0]]];
     const glm::dvec3 after =
         glm::cross(shape.positions[rep[c[1]]] - r0, shape.positions[rep[c[2]]] - r0);
-    if (!(glm::dot(before, after) > 0.0)) continue;
+    const bool turned = !(glm::dot(before, after) > 0.0);
     std::uint32_t s[3] = {c[0], c[1], c[2]};
     std::sort(s, s + 3);
     const std::uint64_t key = (std::uint64_t(s[0]) << 42) ^ (std::uint64_t(s[1]) << 21) ^ s[2];
     if (!seen.try_emplace(key, true).second) continue;
-    out.indices.insert(out.indices.end(), {rep[c[0]], rep[c[1]], rep[c[2]]});
+    if (turned)  // wound back to face as the triangle it came from
+      out.indices.insert(out.indices.end(), {rep[c[0]], rep[c[2]], rep[c[1]]});
+    else
+      out.indices.insert(out.indices.end(), {rep[c[0]], rep[c[1]], rep[c[2]]});
   }
   for (std::uint32_t v : indices)
     out.geometricError = std::max(

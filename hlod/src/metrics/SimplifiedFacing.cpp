@@ -50,23 +50,39 @@ Result<Faces> faces(const Mesh& mesh, const char* role) {
 
 }  // namespace
 
-Result<std::vector<TriangleFacing>> triangleFacing(const Mesh& original, const Mesh& simplified) {
+struct FacingChecker::Index {
+  std::vector<glm::dvec3> normals;  // of the original's faces with area, in the BVH's ids
+  double slack = 0.0;
+  TriangleBvh bvh;
+};
+
+FacingChecker::FacingChecker(std::unique_ptr<Index> index) : index_(std::move(index)) {}
+FacingChecker::FacingChecker(FacingChecker&&) noexcept = default;
+FacingChecker& FacingChecker::operator=(FacingChecker&&) noexcept = default;
+FacingChecker::~FacingChecker() = default;
+
+Result<FacingChecker> FacingChecker::create(const Mesh& original) {
   Result<Faces> ref = faces(original, "original");
   if (!ref) return ref.error();
-  Result<Faces> test = faces(simplified, "simplified");
-  if (!test) return test.error();
   // Only faces with area stand for a surface (and have a normal to compare with).
-  std::vector<Triangle> refTriangles;
-  std::vector<glm::dvec3> refNormals;
+  std::vector<Triangle> triangles;
+  std::vector<glm::dvec3> normals;
   for (std::size_t i = 0; i < ref->triangles.size(); ++i) {
     if (ref->normals[i] == glm::dvec3(0.0)) continue;
-    refTriangles.push_back(ref->triangles[i]);
-    refNormals.push_back(ref->normals[i]);
+    triangles.push_back(ref->triangles[i]);
+    normals.push_back(ref->normals[i]);
   }
-  if (refTriangles.empty()) return makeError("facing check: the original mesh has no area");
+  if (triangles.empty()) return makeError("facing check: the original mesh has no area");
   const double slack = 1e-6 * glm::length(original.bounds().size());
-  const TriangleBvh bvh(std::move(refTriangles));
+  return FacingChecker(
+      std::make_unique<Index>(Index{std::move(normals), slack, TriangleBvh(std::move(triangles))}));
+}
 
+Result<std::vector<TriangleFacing>> FacingChecker::check(const Mesh& simplified,
+                                                         double offLimit) const {
+  Result<Faces> test = faces(simplified, "simplified");
+  if (!test) return test.error();
+  const TriangleBvh& bvh = index_->bvh;
   std::vector<TriangleFacing> out(test->triangles.size());
   for (std::size_t i = 0; i < test->triangles.size(); ++i) {
     const glm::dvec3& n = test->normals[i];
@@ -74,13 +90,22 @@ Result<std::vector<TriangleFacing>> triangleFacing(const Mesh& original, const M
     const Triangle& t = test->triangles[i];
     const glm::dvec3 centroid = (t[0] + t[1] + t[2]) / 3.0;
     double best = -2.0;
-    for (std::uint32_t id : bvh.nearest(centroid, slack))
-      best = std::max(best, glm::dot(refNormals[id], n));
-    double off = bvh.distance(centroid);
-    for (int k = 0; k < 3; ++k) off = std::max(off, bvh.distance(0.5 * (t[k] + t[(k + 1) % 3])));
+    for (std::uint32_t id : bvh.nearest(centroid, index_->slack))
+      best = std::max(best, glm::dot(index_->normals[id], n));
+    const glm::dvec3 points[4] = {centroid, 0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2]),
+                                  0.5 * (t[2] + t[0])};
+    double off = 0.0;
+    for (const glm::dvec3& p : points)
+      if (!(offLimit > 0.0 && bvh.within(p, offLimit))) off = std::max(off, bvh.distance(p));
     out[i] = {true, best < kOpposing, off};
   }
   return out;
+}
+
+Result<std::vector<TriangleFacing>> triangleFacing(const Mesh& original, const Mesh& simplified) {
+  Result<FacingChecker> checker = FacingChecker::create(original);
+  if (!checker) return checker.error();
+  return checker->check(simplified);
 }
 
 Result<FacingReport> checkFacing(const Mesh& original, const Mesh& simplified, double offLimit) {

@@ -5,6 +5,7 @@
 // stands off the surface (a sliver of vertex clustering joining two walls) shows as a shard.
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "hlod/Mesh.h"
@@ -30,6 +31,25 @@ struct TriangleFacing {
 
 // Per triangle of simplified, in order (the rules of checkFacing below).
 Result<std::vector<TriangleFacing>> triangleFacing(const Mesh& original, const Mesh& simplified);
+
+// The same for many simplifications of one original, which is indexed once.
+class FacingChecker {
+ public:
+  // An Error for the original meshes checkFacing refuses.
+  static Result<FacingChecker> create(const Mesh& original);
+  // With offLimit, off is measured exactly only where it exceeds offLimit (0 elsewhere): the
+  // distance queries stop at the first face within the limit.
+  Result<std::vector<TriangleFacing>> check(const Mesh& simplified, double offLimit = 0.0) const;
+
+  FacingChecker(FacingChecker&&) noexcept;
+  FacingChecker& operator=(FacingChecker&&) noexcept;
+  ~FacingChecker();
+
+ private:
+  struct Index;
+  explicit FacingChecker(std::unique_ptr<Index> index);
+  std::unique_ptr<Index> index_;
+};
 
 // Checks every simplified triangle with area (a needle, whose area is below 1e-9 of its longest
 // edge squared, has none: its normal is rounding noise). Facing: at its centroid, the original
