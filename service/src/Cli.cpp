@@ -28,6 +28,8 @@ const std::vector<Command>& commands() {
        cmd::runPath},
       {"study", "what accuracy costs in time: selectors and budgets against full detail",
        cmd::kStudyUsage, cmd::runStudy},
+      {"study-build", "the simplifiers per level: distance to the original, triangles, time",
+       cmd::kStudyBuildUsage, cmd::runStudyBuild},
       {"serve", "serve the HTTP API and the web page over a folder of node stores",
        cmd::kServeUsage, cmd::runServe},
   };
@@ -37,7 +39,7 @@ const std::vector<Command>& commands() {
 static void printHelp() {
   std::printf("hlodr %s: headless HLOD rendering of huge models\n\nusage: hlodr COMMAND [ARGS]\n\n",
               HLODR_VERSION);
-  for (const auto& c : commands()) std::printf("  %-10s %s\n", c.name, c.summary);
+  for (const auto& c : commands()) std::printf("  %-11s %s\n", c.name, c.summary);
   std::printf("\n`hlodr help COMMAND` or `hlodr COMMAND --help` shows a command's options.\n");
 }
 

@@ -11,6 +11,7 @@
 // removed or moved, so neighbouring nodes meet exactly. Output vertices are copies of input
 // vertices (positions, normals and texture coordinates bit for bit); no vertex is moved.
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <string_view>
 #include <vector>
@@ -29,11 +30,14 @@ class Simplifier {
  public:
   virtual ~Simplifier() = default;
   virtual const char* name() const = 0;
-  // Simplifies toward targetTriangles (may stay above it when locked vertices forbid more).
-  // locked holds one flag per vertex of mesh (or is empty: nothing locked); a position is locked
-  // when any vertex there is. A mesh already at or below the target comes back unchanged.
+  // Simplifies toward targetTriangles (may stay above it when locked vertices forbid more, or
+  // where reaching it would leave part of the surface farther than errorLimit, world units,
+  // from the result). locked holds one flag per vertex of mesh (or is empty: nothing locked); a
+  // position is locked when any vertex there is. A mesh already at or below the target comes
+  // back unchanged. No kept triangle faces away from the surface it stands for.
   SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles,
-                          const std::vector<std::uint8_t>& locked = {}) const;
+                          const std::vector<std::uint8_t>& locked = {},
+                          double errorLimit = std::numeric_limits<double>::infinity()) const;
 
   // What the implementations see: one vertex per distinct position.
   struct Shape {
@@ -47,8 +51,10 @@ class Simplifier {
   };
 
  protected:
-  // The simplifier proper, for a non-empty shape above the target.
-  virtual ReducedShape reduce(const Shape& shape, std::size_t targetTriangles) const = 0;
+  // The simplifier proper, for a non-empty shape above the target; it may stop above the target
+  // where going on would pass errorLimit (world units).
+  virtual ReducedShape reduce(const Shape& shape, std::size_t targetTriangles,
+                              double errorLimit) const = 0;
 };
 
 // "meshopt" or "openmesh"; an Error naming the choices otherwise.

@@ -59,6 +59,14 @@ std::vector<std::uint8_t> cutVertices(const Mesh& piece, const std::vector<CutPl
   return locked;
 }
 
+// The error a node with simplification factor s may have: the spacing of its level's triangles
+// spread evenly over the whole block (the level holds blockTriangles / s of them). A piece's own
+// target does not bound it: a courtyard's paving, three large triangles in a piece, has a
+// target of one, and the collapse that meets it drops 37 m of paving.
+double errorLimit(double blockArea, std::size_t blockTriangles, double s) {
+  return std::sqrt(blockArea * s / double(std::max<std::size_t>(1, blockTriangles)));
+}
+
 int clampedLevelFactor(const BuildOptions& options) {
   return std::max(2, options.levelFactor);
 }
@@ -136,6 +144,8 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
   SeamVertices seams;
   if (neighbourSeams) seams.merge(*neighbourSeams);
 
+  const double blockArea = surfaceArea(welded);
+  const std::size_t blockTriangles = welded.triangleCount();
   // Pieces waiting to become nodes: their original (cut, unsimplified) triangles.
   std::vector<Mesh> pieces;
   nodes.emplace_back();
@@ -164,7 +174,8 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
       const auto target =
           std::max<std::size_t>(1, std::size_t(std::llround(double(piece.triangleCount()) / s)));
       SimplifiedMesh simplified =
-          simplifier.simplify(piece, target, cutVertices(piece, nodes[i].planes));
+          simplifier.simplify(piece, target, cutVertices(piece, nodes[i].planes),
+                              errorLimit(blockArea, blockTriangles, s));
       nodes[i].mesh = std::move(simplified.mesh);
       nodes[i].info.geometricError = simplified.geometricError;
       nodes[i].cutAxis = c.slabs.axis;

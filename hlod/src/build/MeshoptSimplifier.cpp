@@ -16,7 +16,8 @@ class MeshoptSimplifier final : public Simplifier {
  public:
   const char* name() const override { return "meshopt"; }
 
-  ReducedShape reduce(const Shape& shape, std::size_t targetTriangles) const override {
+  ReducedShape reduce(const Shape& shape, std::size_t targetTriangles,
+                      double errorLimit) const override {
     // meshopt works on floats: positions relative to the box centre keep their precision.
     Aabb box;
     for (const auto& p : shape.positions) box.extend(p);
@@ -45,11 +46,14 @@ class MeshoptSimplifier final : public Simplifier {
     ReducedShape out;
     out.indices.resize(shape.indices.size());
     float relError = 0.0f;
-    const std::size_t n =
-        meshopt_simplify(out.indices.data(), shape.indices.data(), shape.indices.size(), pos.data(),
-                         vertexCount, sizeof(float) * 3, targetTriangles * 3, 1.0f, 0, &relError);
-    out.indices.resize(n);
+    // meshopt's target_error is relative to the mesh's extent (meshopt_simplifyScale).
     const float scale = meshopt_simplifyScale(pos.data(), vertexCount, sizeof(float) * 3);
+    const float targetError =
+        scale > 0.0f && errorLimit < double(scale) ? float(errorLimit / double(scale)) : 1.0f;
+    const std::size_t n = meshopt_simplify(
+        out.indices.data(), shape.indices.data(), shape.indices.size(), pos.data(), vertexCount,
+        sizeof(float) * 3, targetTriangles * 3, targetError, 0, &relError);
+    out.indices.resize(n);
     out.geometricError = double(relError) * double(scale);
     return out;
   }

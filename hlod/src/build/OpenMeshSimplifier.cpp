@@ -46,7 +46,10 @@ class OpenMeshSimplifier final : public Simplifier {
  public:
   const char* name() const override { return "openmesh"; }
 
-  ReducedShape reduce(const Shape& shape, std::size_t targetTriangles) const override {
+  // errorLimit is left to the guard around it (the quadric module's limit is in squared
+  // distances summed over planes, not a distance).
+  ReducedShape reduce(const Shape& shape, std::size_t targetTriangles,
+                      double /*errorLimit*/) const override {
     ReducedShape out;
     Aabb box;
     for (const auto& p : shape.positions) box.extend(p);

@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "build/ShapeGuard.h"
 #include "build/SimplifierImpl.h"
 
 namespace hlod {
@@ -57,83 +58,11 @@ glm::dvec3 triangleNormal(const glm::dvec3& a, const glm::dvec3& b, const glm::d
   return len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
 }
 
-// The triangles left when every unlocked vertex moves to a representative of its cell in a grid
-// of `cells` cells along the longest side (locked vertices stay). Degenerate and repeated
-// triangles go. The representative is the cell's vertex nearest the cell's mean position.
-Simplifier::ReducedShape clusterOnGrid(const Simplifier::Shape& shape,
-                                       const std::vector<std::uint32_t>& indices, int cells) {
-  Aabb box;
-  for (std::uint32_t v : indices) box.extend(shape.positions[v]);
-  const glm::dvec3 size = box.size();
-  const double cell = std::max({size.x, size.y, size.z}) / cells;
-  std::unordered_map<std::uint64_t, std::uint32_t> cellIndex;
-  std::vector<std::uint32_t> cellOf(shape.positions.size(), 0xffffffffu);
-  std::vector<glm::dvec3> sum;
-  std::vector<std::uint32_t> count;
-  for (std::uint32_t v : indices) {
-    if (cellOf[v] != 0xffffffffu) continue;
-    std::uint64_t key;
-    if (shape.locked[v]) {
-      key = (1ull << 63) | v;  // a cell of its own
-    } else {
-      const glm::dvec3 q = (shape.positions[v] - box.min) / cell;
-      auto c = [&](double x) { return std::uint64_t(std::clamp(x, 0.0, double(cells - 1))); };
-      key = (c(q.x) << 42) | (c(q.y) << 21) | c(q.z);
-    }
-    auto [it, fresh] = cellIndex.try_emplace(key, std::uint32_t(sum.size()));
-    if (fresh) sum.emplace_back(0.0), count.push_back(0);
-    cellOf[v] = it->second;
-    sum[it->second] += shape.positions[v];
-    ++count[it->second];
-  }
-  std::vector<std::uint32_t> rep(sum.size(), 0xffffffffu);
-  std::vector<double> repDist(sum.size(), std::numeric_limits<double>::max());
-  for (std::uint32_t v : indices) {
-    const std::uint32_t c = cellOf[v];
-    const double d = glm::length(shape.positions[v] - sum[c] / double(count[c]));
-    if (d < repDist[c] || (d == repDist[c] && v < rep[c])) repDist[c] = d, rep[c] = v;
-  }
-  Simplifier::ReducedShape out;
-  std::unordered_map<std::uint64_t, bool> seen;  // triangles as sorted cell triples
-  for (std::size_t i = 0; i + 2 < indices.size(); i += 3) {
-    std::uint32_t c[3] = {cellOf[indices[i]], cellOf[indices[i + 1]], cellOf[indices[i + 2]]};
-    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
-    std::uint32_t s[3] = {c[0], c[1], c[2]};
-    std::sort(s, s + 3);
-    const std::uint64_t key = (std::uint64_t(s[0]) << 42) ^ (std::uint64_t(s[1]) << 21) ^ s[2];
-    if (!seen.try_emplace(key, true).second) continue;
-    out.indices.insert(out.indices.end(), {rep[c[0]], rep[c[1]], rep[c[2]]});
-  }
-  for (std::uint32_t v : indices)
-    out.geometricError = std::max(
-        out.geometricError, glm::length(shape.positions[v] - shape.positions[rep[cellOf[v]]]));
-  return out;
-}
-
-// Vertex clustering (as meshopt_simplifySloppy, but keeping locked vertices): the finest grid
-// whose result has at most targetTriangles triangles, found by bisection on the grid size.
-Simplifier::ReducedShape clusterVertices(const Simplifier::Shape& shape,
-                                         const std::vector<std::uint32_t>& indices,
-                                         std::size_t targetTriangles) {
-  int lo = 1, hi = 1 << 20;
-  Simplifier::ReducedShape best = clusterOnGrid(shape, indices, lo);
-  while (hi - lo > 1) {
-    const int mid = lo + (hi - lo) / 2;
-    Simplifier::ReducedShape r = clusterOnGrid(shape, indices, mid);
-    if (r.indices.size() / 3 <= targetTriangles) {
-      lo = mid;
-      best = std::move(r);
-    } else {
-      hi = mid;
-    }
-  }
-  return best;
-}
-
 }  // namespace
 
 SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangles,
-                                    const std::vector<std::uint8_t>& locked) const {
+                                    const std::vector<std::uint8_t>& locked,
+                                    double errorLimit) const {
   if (mesh.triangleCount() <= targetTriangles || mesh.positions.empty()) return {mesh};
   const std::size_t nv = mesh.positions.size();
   // Weld by position: posOf[v] is the position index of input vertex v.
@@ -248,14 +177,11 @@ SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangle
       firstWedge[sv + 1] += firstWedge[sv];
   }
 
-  ReducedShape reduced = reduce(shape, targetTriangles);
-  // Edge collapses stop where every remaining collapse is illegal (non-manifold corners where
-  // small boxes touch walls, flips); vertex clustering then takes the rest of the way.
-  if (reduced.indices.size() / 3 > targetTriangles + targetTriangles / 4) {
-    ReducedShape clustered = clusterVertices(shape, reduced.indices, targetTriangles);
-    clustered.geometricError = std::max(clustered.geometricError, reduced.geometricError);
-    if (clustered.indices.size() < reduced.indices.size()) reduced = std::move(clustered);
-  }
+  const ReducedShape reduced =
+      guardedReduce(shape, targetTriangles, errorLimit,
+                    [this](const Shape& sh, std::size_t target, double limit) {
+                      return reduce(sh, target, limit);
+                    });
 
   // Attributes back: per corner, the wedge whose normal best matches the kept triangle; among
   // equally good wedges (a flat texture seam) the one whose texture coordinate lies nearest the

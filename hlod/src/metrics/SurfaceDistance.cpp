@@ -50,7 +50,8 @@ double unitRandom(std::mt19937_64& rng) {
 // cumulative areas), then a uniform point in it (the square root warps two uniform numbers onto
 // the triangle without bunching at a corner).
 Result<std::vector<glm::dvec3>> samplePoints(const std::vector<Triangle>& tris, std::size_t count,
-                                             std::mt19937_64& rng, const char* role) {
+                                             std::mt19937_64& rng, const char* role,
+                                             std::vector<std::uint32_t>* source = nullptr) {
   std::vector<double> cumulative(tris.size());
   double total = 0.0;
   for (std::size_t i = 0; i < tris.size(); ++i) {
@@ -61,7 +62,9 @@ Result<std::vector<glm::dvec3>> samplePoints(const std::vector<Triangle>& tris, 
     return makeError(std::string("surface distance: mesh ") + role + " has no surface area");
   }
   std::vector<glm::dvec3> points(count);
-  for (glm::dvec3& p : points) {
+  if (source) source->resize(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    glm::dvec3& p = points[k];
     const double r = unitRandom(rng) * total;
     const std::size_t i = std::min<std::size_t>(
         std::upper_bound(cumulative.begin(), cumulative.end(), r) - cumulative.begin(),
@@ -70,6 +73,7 @@ Result<std::vector<glm::dvec3>> samplePoints(const std::vector<Triangle>& tris, 
     const double v = unitRandom(rng);
     const Triangle& t = tris[i];
     p = (1.0 - s) * t[0] + s * (1.0 - v) * t[1] + s * v * t[2];
+    if (source) (*source)[k] = std::uint32_t(i);
   }
   return points;
 }
@@ -106,6 +110,27 @@ Result<SurfaceDistance> surfaceDistance(const Mesh& a, const Mesh& b, std::size_
   d.samples = 2 * samplesPerMesh;
   d.rms = std::sqrt(sumSquares / static_cast<double>(d.samples));
   return d;
+}
+
+Result<std::vector<FarSample>> farSamples(const Mesh& original, const Mesh& simplified,
+                                          std::size_t samples, double limit, std::uint64_t seed) {
+  if (samples == 0) return makeError("far samples: samples must be > 0");
+  Result<std::vector<Triangle>> trisA = triangles(original, "a");
+  if (!trisA) return trisA.error();
+  Result<std::vector<Triangle>> trisB = triangles(simplified, "b");
+  if (!trisB) return trisB.error();
+  std::mt19937_64 rng(seed);
+  std::vector<std::uint32_t> source;
+  Result<std::vector<glm::dvec3>> points = samplePoints(*trisA, samples, rng, "a", &source);
+  if (!points) return points.error();
+  const TriangleBvh bvh(std::move(*trisB));
+  std::vector<FarSample> out;
+  for (std::size_t i = 0; i < points->size(); ++i) {
+    const glm::dvec3& p = (*points)[i];
+    if (bvh.within(p, limit)) continue;
+    out.push_back({p, source[i], bvh.distance(p)});
+  }
+  return out;
 }
 
 }  // namespace hlod::metrics

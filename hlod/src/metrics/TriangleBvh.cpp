@@ -79,21 +79,30 @@ double pointTriangleDistance(const glm::dvec3& p, const Triangle& t) {
   return std::sqrt(pointTriangleDistance2(p, t));
 }
 
-TriangleBvh::TriangleBvh(std::vector<Triangle> triangles) : triangles_(std::move(triangles)) {
-  assert(!triangles_.empty());
-  nodes_.reserve(2 * triangles_.size() / kLeafSize + 1);
-  build(0, static_cast<std::uint32_t>(triangles_.size()));
+TriangleBvh::TriangleBvh(std::vector<Triangle> triangles) {
+  assert(!triangles.empty());
+  // Built on (triangle, id) items, contiguous for the splits; split into the two arrays after.
+  std::vector<Item> items(triangles.size());
+  for (std::uint32_t i = 0; i < items.size(); ++i) items[i] = {triangles[i], i};
+  triangles = {};
+  nodes_.reserve(2 * items.size() / kLeafSize + 1);
+  build(items, 0, static_cast<std::uint32_t>(items.size()));
+  triangles_.resize(items.size());
+  ids_.resize(items.size());
+  for (std::size_t i = 0; i < items.size(); ++i) triangles_[i] = items[i].t, ids_[i] = items[i].id;
 }
 
 // Median split along the longest axis of the centroids' box; the left child is stored right
 // after its parent.
-std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
+std::uint32_t TriangleBvh::build(std::vector<Item>& items, std::uint32_t first,
+                                 std::uint32_t count) {
   const std::uint32_t index = static_cast<std::uint32_t>(nodes_.size());
   nodes_.push_back({});
   Aabb box, centres;
   for (std::uint32_t i = first; i < first + count; ++i) {
-    for (const glm::dvec3& v : triangles_[i]) box.extend(v);
-    centres.extend((triangles_[i][0] + triangles_[i][1] + triangles_[i][2]) / 3.0);
+    const Triangle& t = items[i].t;
+    for (const glm::dvec3& v : t) box.extend(v);
+    centres.extend((t[0] + t[1] + t[2]) / 3.0);
   }
   nodes_[index].box = box;
   if (count <= kLeafSize) {
@@ -104,12 +113,14 @@ std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
   const glm::dvec3 extent = centres.size();
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
   const std::uint32_t half = count / 2;
-  const auto centre = [axis](const Triangle& t) { return t[0][axis] + t[1][axis] + t[2][axis]; };
-  std::nth_element(triangles_.begin() + first, triangles_.begin() + first + half,
-                   triangles_.begin() + first + count,
-                   [&](const Triangle& l, const Triangle& r) { return centre(l) < centre(r); });
-  build(first, half);
-  const std::uint32_t right = build(first + half, count - half);
+  const auto centre = [axis](const Item& it) {
+    return it.t[0][axis] + it.t[1][axis] + it.t[2][axis];
+  };
+  std::nth_element(items.begin() + first, items.begin() + first + half,
+                   items.begin() + first + count,
+                   [&](const Item& l, const Item& r) { return centre(l) < centre(r); });
+  build(items, first, half);
+  const std::uint32_t right = build(items, first + half, count - half);
   nodes_[index].first = right;
   nodes_[index].count = 0;
   return index;
@@ -142,6 +153,48 @@ double TriangleBvh::distance(const glm::dvec3& p) const {
     if ((leftFirst ? dl : dr) < best2) stack[top++] = nearer;
   }
   return std::sqrt(best2);
+}
+
+bool TriangleBvh::within(const glm::dvec3& p, double r) const {
+  const double r2 = r * r;
+  std::uint32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (boxDistance2(p, node.box) > r2) continue;
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+        if (pointTriangleDistance2(p, triangles_[i]) <= r2) return true;
+      continue;
+    }
+    assert(top + 2 <= 64);
+    stack[top++] = node.first;
+    stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+  }
+  return false;
+}
+
+std::vector<std::uint32_t> TriangleBvh::nearest(const glm::dvec3& p, double slack) const {
+  assert(slack >= 0.0);
+  const double limit = distance(p) + slack;
+  const double limit2 = limit * limit;
+  std::vector<std::uint32_t> out;
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const Node& node = nodes_[stack.back()];
+    stack.pop_back();
+    if (boxDistance2(p, node.box) > limit2) continue;
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+        if (pointTriangleDistance2(p, triangles_[i]) <= limit2) out.push_back(ids_[i]);
+      continue;
+    }
+    stack.push_back(static_cast<std::uint32_t>(&node - nodes_.data()) + 1);
+    stack.push_back(node.first);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace hlod::metrics

@@ -28,6 +28,9 @@ int runCalibrate(const Argv& args);
 extern const char* const kStudyUsage;
 int runStudy(const Argv& args);
 
+extern const char* const kStudyBuildUsage;
+int runStudyBuild(const Argv& args);
+
 extern const char* const kServeUsage;
 int runServe(const Argv& args);
 

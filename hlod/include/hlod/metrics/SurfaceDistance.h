@@ -4,6 +4,7 @@
 // Error on Simplified Surfaces", Computer Graphics Forum 17(2), 1998).
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
@@ -29,5 +30,18 @@ struct SurfaceDistance {
 Result<SurfaceDistance> surfaceDistance(const Mesh& a, const Mesh& b,
                                         std::size_t samplesPerMesh = 100000,
                                         std::uint64_t seed = 1);
+
+// Surface of original that simplified lost: of samples points on original (area-weighted, as
+// surfaceDistance), those farther than limit from simplified's triangles, with the triangle of
+// original each lies on (its index among original's triangles) and its distance. The same
+// checks on both meshes as surfaceDistance.
+struct FarSample {
+  glm::dvec3 point{0.0};
+  std::uint32_t triangle = 0;
+  double distance = 0.0;
+};
+Result<std::vector<FarSample>> farSamples(const Mesh& original, const Mesh& simplified,
+                                          std::size_t samples, double limit,
+                                          std::uint64_t seed = 1);
 
 }  // namespace hlod::metrics

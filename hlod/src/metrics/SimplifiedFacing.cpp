@@ -1,0 +1,131 @@
+#include "hlod/metrics/SimplifiedFacing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "metrics/TriangleBvh.h"
+
+namespace hlod::metrics {
+
+namespace {
+
+// Twice the area below this share of the longest edge squared: a needle, no area.
+constexpr double kNeedle = 1e-9;
+constexpr double kOpposing = -1e-3;
+
+struct Faces {
+  std::vector<Triangle> triangles;
+  std::vector<glm::dvec3> normals;  // unit; zero for a triangle without area
+};
+
+Result<Faces> faces(const Mesh& mesh, const char* role) {
+  const std::string what = std::string("facing check: ") + role + " mesh";
+  if (mesh.indices.empty()) return makeError(what + " has no triangles");
+  if (mesh.indices.size() % 3 != 0) return makeError(what + ": index count not a multiple of 3");
+  for (const glm::dvec3& p : mesh.positions)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      return makeError(what + " has a non-finite position");
+  Faces out;
+  for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    Triangle t;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = mesh.indices[i + k];
+      if (v >= mesh.positions.size()) return makeError(what + ": index out of range");
+      t[k] = mesh.positions[v];
+    }
+    const glm::dvec3 n = glm::cross(t[1] - t[0], t[2] - t[0]);
+    const double len = glm::length(n);
+    double edge2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3 e = t[(k + 1) % 3] - t[k];
+      edge2 = std::max(edge2, glm::dot(e, e));
+    }
+    out.triangles.push_back(t);
+    out.normals.push_back(len > kNeedle * edge2 && std::isfinite(len) ? n / len : glm::dvec3(0.0));
+  }
+  return out;
+}
+
+}  // namespace
+
+struct FacingChecker::Index {
+  std::vector<glm::dvec3> normals;  // of the original's faces with area, in the BVH's ids
+  double slack = 0.0;
+  TriangleBvh bvh;
+};
+
+FacingChecker::FacingChecker(std::unique_ptr<Index> index) : index_(std::move(index)) {}
+FacingChecker::FacingChecker(FacingChecker&&) noexcept = default;
+FacingChecker& FacingChecker::operator=(FacingChecker&&) noexcept = default;
+FacingChecker::~FacingChecker() = default;
+
+Result<FacingChecker> FacingChecker::create(const Mesh& original) {
+  Result<Faces> ref = faces(original, "original");
+  if (!ref) return ref.error();
+  // Only faces with area stand for a surface (and have a normal to compare with).
+  std::vector<Triangle> triangles;
+  std::vector<glm::dvec3> normals;
+  for (std::size_t i = 0; i < ref->triangles.size(); ++i) {
+    if (ref->normals[i] == glm::dvec3(0.0)) continue;
+    triangles.push_back(ref->triangles[i]);
+    normals.push_back(ref->normals[i]);
+  }
+  if (triangles.empty()) return makeError("facing check: the original mesh has no area");
+  const double slack = 1e-6 * glm::length(original.bounds().size());
+  return FacingChecker(
+      std::make_unique<Index>(Index{std::move(normals), slack, TriangleBvh(std::move(triangles))}));
+}
+
+Result<std::vector<TriangleFacing>> FacingChecker::check(const Mesh& simplified,
+                                                         double offLimit) const {
+  Result<Faces> test = faces(simplified, "simplified");
+  if (!test) return test.error();
+  const TriangleBvh& bvh = index_->bvh;
+  std::vector<TriangleFacing> out(test->triangles.size());
+  for (std::size_t i = 0; i < test->triangles.size(); ++i) {
+    const glm::dvec3& n = test->normals[i];
+    if (n == glm::dvec3(0.0)) continue;
+    const Triangle& t = test->triangles[i];
+    const glm::dvec3 centroid = (t[0] + t[1] + t[2]) / 3.0;
+    double best = -2.0;
+    for (std::uint32_t id : bvh.nearest(centroid, index_->slack))
+      best = std::max(best, glm::dot(index_->normals[id], n));
+    const glm::dvec3 points[4] = {centroid, 0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2]),
+                                  0.5 * (t[2] + t[0])};
+    double off = 0.0;
+    for (const glm::dvec3& p : points)
+      if (!(offLimit > 0.0 && bvh.within(p, offLimit))) off = std::max(off, bvh.distance(p));
+    out[i] = {true, best < kOpposing, off};
+  }
+  return out;
+}
+
+Result<std::vector<TriangleFacing>> triangleFacing(const Mesh& original, const Mesh& simplified) {
+  Result<FacingChecker> checker = FacingChecker::create(original);
+  if (!checker) return checker.error();
+  return checker->check(simplified);
+}
+
+Result<FacingReport> checkFacing(const Mesh& original, const Mesh& simplified, double offLimit) {
+  Result<std::vector<TriangleFacing>> each = triangleFacing(original, simplified);
+  if (!each) return each.error();
+  FacingReport r;
+  for (std::size_t i = 0; i < each->size(); ++i) {
+    const TriangleFacing& f = (*each)[i];
+    if (!f.hasArea) continue;
+    const glm::dvec3& a = simplified.positions[simplified.indices[3 * i]];
+    const glm::dvec3& b = simplified.positions[simplified.indices[3 * i + 1]];
+    const glm::dvec3& c = simplified.positions[simplified.indices[3 * i + 2]];
+    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+    ++r.triangles;
+    r.area += area;
+    if (f.flipped) ++r.flipped, r.flippedArea += area;
+    if (f.off > offLimit) ++r.standingOff;
+    r.maxOff = std::max(r.maxOff, f.off);
+  }
+  return r;
+}
+
+}  // namespace hlod::metrics
