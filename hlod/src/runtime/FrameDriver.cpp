@@ -186,6 +186,10 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   rec.triangles = drawn->triangles;  // what was drawn (equal to the front's numTri sum)
   rec.drawMs = drawn->ms;
   rec.queryGpuMs = drawn->gpuMs;
+  for (const PassTime& p : drawn->passes) {
+    [[maybe_unused]] const bool known = setPassMs(rec, p.name, p.gpuMs);
+    assert(known && "a pass FrameRecord has no field for");
+  }
   rec.gpuMs = (settled ? 0.0 : rec.uploadMs) + drawn->ms;
   rec.pendingUploads = static_cast<std::uint32_t>(renderer_.pendingUploads());
   rec.cpuMs = msSince(frameStart) - waitMs;

@@ -19,7 +19,7 @@ std::array<std::uint8_t, 3> backgroundOf(const renderer::Effects& e) {
   auto c = [](float v) {
     return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.f, 1.f) * 255));
   };
-  return {c(e.background.r), c(e.background.g), c(e.background.b)};
+  return {c(e.background.colour.r), c(e.background.colour.g), c(e.background.colour.b)};
 }
 
 // The studied frames: `count` path frames spread evenly from the first to the last.
