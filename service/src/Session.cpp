@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hlod/NodeStore.h"
+#include "hlod/SceneFile.h"
 #include "renderer/VideoWriter.h"
 
 namespace service {
@@ -113,6 +114,9 @@ hlod::Status Session::init(renderer::GlContext& context) {
   fo.width = options_.width;
   fo.height = options_.height;
   fo.recentFrames = options_.recentFrames;
+  // A declared density culls what it hides; a derived one (1 / far) never reaches the model.
+  if (options_.effects.fog && options_.effects.fog->density > 0.0)
+    fo.fogCullDistance = hlod::fogCullDistance(options_.effects.fog->density);
   driver_ = std::make_unique<hlod::FrameDriver>(std::move(*sel), std::move(*ahead), *loader_,
                                                 *renderer_, fo);
   return driver_->start(options_.knownVTime);

@@ -79,6 +79,9 @@ void fillFromSelection(FrameRecord& record, const Selection& selection);
 // Sets the per-pass field of the pass named `pass` ("shadow", "geometry", "sky", "ssao",
 // "ssao-blur", "composite", "outline"); false for another name.
 bool setPassMs(FrameRecord& record, const std::string& pass, double ms);
+// A pass whose cost is per pixel, not per triangle of the front (sky, ssao, ssao-blur,
+// composite, outline); shadow and geometry draw the front.
+bool isScreenPass(const std::string& pass);
 // Copies the loader's part (residentBytes, capBytes, load/unload counts).
 void fillFromLoader(FrameRecord& record, const LoaderCounters& counters);
 

@@ -65,6 +65,11 @@ bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
   return false;
 }
 
+bool isScreenPass(const std::string& pass) {
+  return pass == "sky" || pass == "ssao" || pass == "ssao-blur" || pass == "composite" ||
+         pass == "outline";
+}
+
 void fillFromLoader(FrameRecord& r, const LoaderCounters& c) {
   r.residentBytes = c.residentBytes;
   r.capBytes = c.capBytes;
