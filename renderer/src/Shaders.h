@@ -193,7 +193,10 @@ void main() {
     if (d <= 0.0) continue;
     float sceneZ = viewPosition(uv, d).z;
     float range = smoothstep(0.0, 1.0, uAoRadius / max(abs(p.z - sceneZ), 1e-6));
-    occluded += (sceneZ >= q.z + 0.02 * uAoRadius ? 1.0 : 0.0) * range;
+    // The bias grows with distance: depth reconstruction and the derivative normals lose
+    // precision there, and a flat far ground must not occlude itself.
+    float bias = 0.02 * uAoRadius + 0.002 * -p.z;
+    occluded += (sceneZ >= q.z + bias ? 1.0 : 0.0) * range;
   }
   float ao = clamp(1.0 - uAoStrength * occluded / float(uAoSamples), 0.0, 1.0);
   fragColor = vec4(ao, ao, ao, 1.0);
@@ -209,7 +212,7 @@ void main() {
   vec2 texel = 1.0 / vec2(textureSize(uAo, 0));
   float sum = 0.0;
   for (int y = -2; y < 2; ++y)
-    for (int x = -2; x < 2; ++x) sum += texture(uAo, vUv + (vec2(x, y) + 0.5) * texel).r;
+    for (int x = -2; x < 2; ++x) sum += texture(uAo, vUv + vec2(x, y) * texel).r;
   float ao = sum / 16.0;
   fragColor = vec4(ao, ao, ao, 1.0);
 }

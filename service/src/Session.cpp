@@ -103,7 +103,11 @@ hlod::Status Session::init(renderer::GlContext& context) {
   lp.ioLatencyMs = options_.ioLatencyMs;
   lp.ioRequests = options_.ioRequests;
   lp.cache = options_.cache;
-  lp.cacheStore = options_.cacheStore;
+  // No textures declared: the loader never reads them, and its texture-less meshes are cached
+  // apart from those of textured sessions of the same store.
+  lp.textures = options_.effects.textures;
+  lp.cacheStore =
+      options_.effects.textures ? options_.cacheStore : options_.cacheStore | 0x80000000u;
   loader_ = std::make_unique<hlod::Loader>(*source_, lp);
 
   hlod::FrameDriverOptions fo;
