@@ -17,6 +17,9 @@ fi
 if ! build/hlodr info out/city.hlod >/dev/null 2>&1; then
   build/hlodr build out/city -o out/city.hlod
 fi
-build/hlodr render out/city -o out/city.png --size 1280x720 --quiet
-echo "demo: wrote out/city.png (the whole city at full detail)"
+# The default city scene: textures, lambert, a sun, a sky and light haze (scenes/city.json).
+build/hlodr render out/city -o out/city.png --scene scenes/city.json --size 1280x720 --quiet
+echo "demo: wrote out/city.png (the whole city at full detail, scenes/city.json)"
+# The scene files, for the API's "scene": "city.json" / "city-shadows.json".
+cp scenes/city.json scenes/city-shadows.json out/
 exec build/hlodr serve --data out --port "${HLODR_PORT:-8080}" --bind "${HLODR_BIND:-127.0.0.1}"

@@ -43,6 +43,7 @@ FrameView makeFrameView(const glm::dvec3& eye, const glm::dvec3& target, const g
   v.rotation = r;
   v.viewDir = f;
   v.projection = reversedZPerspective(glm::radians(fovYDegrees), aspect, zNear, zFar);
+  v.farDistance = zFar;
   return v;
 }
 

@@ -41,12 +41,21 @@ hlod::Result<hlod::DrawReport> GpuNodeRenderer::draw(const hlod::Camera& camera,
                                                      std::span<const std::uint32_t> front) {
   double zNear = camera.nearPlane, zFar = camera.farPlane;
   if (!bounds_.empty()) clipPlanesFor(camera.position, bounds_, zNear, zFar);
-  const FrameView view = makeFrameView(camera.position, camera.target, camera.up, camera.fovY,
-                                       camera.aspect, zNear, zFar);
+  FrameView view = makeFrameView(camera.position, camera.target, camera.up, camera.fovY,
+                                 camera.aspect, zNear, zFar);
   std::vector<const GpuMesh*> meshes;
   meshes.reserve(front.size());
+  hlod::Aabb drawn;
   for (std::uint32_t n : front)
-    if (const GpuMesh* m = residency_.find(n)) meshes.push_back(m);
+    if (const GpuMesh* m = residency_.find(n)) {
+      meshes.push_back(m);
+      drawn.extend(skeleton_.nodes[n].bounds);
+    }
+  // The shadow map is fitted to what this frame draws.
+  if (!drawn.empty()) {
+    view.sceneCentre = drawn.centre();
+    view.sceneRadius = std::max(glm::length(drawn.size()) * 0.5, 1e-3);
+  }
   const FrameTiming t = renderer_->drawFrame(view, meshes);
   hlod::DrawReport report;
   report.ms = t.cpuMs;

@@ -1,11 +1,103 @@
 #include "renderer/Renderer.h"
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
+#include <cmath>
 
 #include "Shaders.h"
 
 namespace renderer {
+
+const char* passName(Pass pass) {
+  switch (pass) {
+    case Pass::Shadow:
+      return "shadow";
+    case Pass::Geometry:
+      return "geometry";
+    case Pass::Sky:
+      return "sky";
+    case Pass::Ssao:
+      return "ssao";
+    case Pass::SsaoBlur:
+      return "ssao-blur";
+    case Pass::Composite:
+      return "composite";
+    case Pass::Outline:
+      return "outline";
+  }
+  return "?";
+}
+
+std::vector<Pass> passesFor(const Effects& e) {
+  std::vector<Pass> passes;
+  if (e.shadows && e.sun && e.lit()) passes.push_back(Pass::Shadow);
+  passes.push_back(Pass::Geometry);
+  if (e.background.sky) passes.push_back(Pass::Sky);
+  if (e.ssao) {
+    passes.push_back(Pass::Ssao);
+    passes.push_back(Pass::SsaoBlur);
+    passes.push_back(Pass::Composite);
+  }
+  if (e.outline) passes.push_back(Pass::Outline);
+  return passes;
+}
+
+namespace {
+
+// A texture of one level with nearest sampling, clamped: the render targets' storage.
+GlObject targetTexture(const GlFunctions& g, GLenum internal, GLenum format, GLenum type, int w,
+                       int h) {
+  GlObject t = GlObject::create(g, GlKind::Texture);
+  g.BindTexture(GL_TEXTURE_2D, t.id());
+  g.TexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(internal), w, h, 0, format, type, nullptr);
+  g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  g.BindTexture(GL_TEXTURE_2D, 0);
+  return t;
+}
+
+hlod::Status complete(const GlFunctions& g, const char* what) {
+  const GLenum status = g.CheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE)
+    return hlod::makeError(std::string(what) + " framebuffer incomplete (0x" +
+                           std::to_string(status) + ")");
+  return hlod::Ok{};
+}
+
+// Orthographic projection for clip depth [0, 1] (glClipControl ZERO_TO_ONE), standard depth.
+glm::dmat4 orthoZeroToOne(double halfWidth, double zNear, double zFar) {
+  glm::dmat4 p(1.0);
+  p[0][0] = 1.0 / halfWidth;
+  p[1][1] = 1.0 / halfWidth;
+  p[2][2] = -1.0 / (zFar - zNear);
+  p[3][2] = -zNear / (zFar - zNear);
+  return p;
+}
+
+glm::dmat4 lookAt(const glm::dvec3& eye, const glm::dvec3& target, glm::dvec3 up) {
+  const glm::dvec3 f = glm::normalize(target - eye);
+  if (glm::length(glm::cross(f, up)) < 1e-6)
+    up = std::abs(f.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 s = glm::normalize(glm::cross(f, up));
+  const glm::dvec3 u = glm::cross(s, f);
+  glm::dmat4 m(1.0);
+  m[0][0] = s.x, m[1][0] = s.y, m[2][0] = s.z;
+  m[0][1] = u.x, m[1][1] = u.y, m[2][1] = u.z;
+  m[0][2] = -f.x, m[1][2] = -f.y, m[2][2] = -f.z;
+  m[3][0] = -glm::dot(s, eye), m[3][1] = -glm::dot(u, eye), m[3][2] = glm::dot(f, eye);
+  return m;
+}
+
+glm::dmat4 translation(const glm::dvec3& t) {
+  glm::dmat4 m(1.0);
+  m[3] = glm::dvec4(t, 1.0);
+  return m;
+}
+
+}  // namespace
 
 hlod::Result<std::unique_ptr<Renderer>> Renderer::create(GlContext& context,
                                                          const RenderOptions& options) {
@@ -20,45 +112,154 @@ hlod::Result<std::unique_ptr<Renderer>> Renderer::create(GlContext& context,
   return r;
 }
 
+bool Renderer::has(Pass pass) const {
+  return std::find(passes_.begin(), passes_.end(), pass) != passes_.end();
+}
+
 hlod::Status Renderer::init() {
   const GlFunctions& g = gl();
+  const int w = options_.width, h = options_.height;
+  // A post pass (SSAO, outline) reads the depth: then it is a texture, otherwise a renderbuffer.
+  const bool depthRead = has(Pass::Ssao) || has(Pass::Outline);
   colour_ = GlObject::create(g, GlKind::Renderbuffer);
   g.BindRenderbuffer(GL_RENDERBUFFER, colour_.id());
-  g.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, options_.width, options_.height);
-  depth_ = GlObject::create(g, GlKind::Renderbuffer);
-  g.BindRenderbuffer(GL_RENDERBUFFER, depth_.id());
-  // 32-bit float depth + reversed-Z: near 0.1 m and far 100 km without z-fighting.
-  g.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, options_.width, options_.height);
+  g.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
   framebuffer_ = GlObject::create(g, GlKind::Framebuffer);
   g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   g.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_.id());
-  g.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_.id());
+  // 32-bit float depth + reversed-Z: near 0.1 m and far 100 km without z-fighting.
+  if (depthRead) {
+    depthTexture_ = targetTexture(g, GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT, w, h);
+    g.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depthTexture_.id(),
+                           0);
+  } else {
+    depth_ = GlObject::create(g, GlKind::Renderbuffer);
+    g.BindRenderbuffer(GL_RENDERBUFFER, depth_.id());
+    g.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    g.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_.id());
+  }
   const GLenum status = g.CheckFramebufferStatus(GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE)
     return hlod::makeError("framebuffer incomplete (0x" + std::to_string(status) + ") at " +
-                           std::to_string(options_.width) + "x" + std::to_string(options_.height));
+                           std::to_string(w) + "x" + std::to_string(h));
   if (g.GetError() != GL_NO_ERROR)
-    return hlod::makeError("GL error while creating a " + std::to_string(options_.width) + "x" +
-                           std::to_string(options_.height) + " framebuffer (out of memory?)");
-  geometryQuery_ = GlObject::create(g, GlKind::Query);
+    return hlod::makeError("GL error while creating a " + std::to_string(w) + "x" +
+                           std::to_string(h) + " framebuffer (out of memory?)");
+  for (std::size_t i = 0; i < passes_.size(); ++i)
+    queries_.push_back(GlObject::create(g, GlKind::Query));
+  if (has(Pass::Shadow))
+    if (auto st = initShadows(); !st) return st;
+  if (depthRead || has(Pass::Sky))
+    if (auto st = initPostTargets(); !st) return st;
+  g.BindFramebuffer(GL_FRAMEBUFFER, 0);
+
   // Compile the variants the effects need now, so the first frame's time is not a compile.
-  if (options_.effects.textures && !program(true).id())
-    return hlod::makeError("textured shader failed to build");
-  if (!program(false).id()) return hlod::makeError("shader failed to build");
+  std::vector<VariantKey> keys = {meshVariant(options_.effects, false)};
+  if (options_.effects.textures) keys.push_back(meshVariant(options_.effects, true));
+  if (has(Pass::Shadow)) keys.push_back({ProgramKind::ShadowDepth, 0});
+  if (has(Pass::Sky))
+    keys.push_back({ProgramKind::Sky, options_.effects.sun ? variant::kSunDisc : 0});
+  if (has(Pass::Ssao)) keys.push_back({ProgramKind::Ssao, 0});
+  if (has(Pass::SsaoBlur)) keys.push_back({ProgramKind::SsaoBlur, 0});
+  if (has(Pass::Composite)) keys.push_back({ProgramKind::Composite, 0});
+  if (has(Pass::Outline)) keys.push_back({ProgramKind::Outline, 0});
+  for (const VariantKey& k : keys)
+    if (!program(k))
+      return hlod::makeError("shader variant 0x" + std::to_string(k.packed()) + " failed to build");
   return hlod::Ok{};
 }
 
-const ShaderProgram& Renderer::program(bool textured) {
-  textured = textured && options_.effects.textures;
-  auto it = programs_.find(textured);
-  if (it != programs_.end()) return it->second;
-  std::string defines;
-  if (textured) defines += "#define HAS_TEXTURE\n";
-  if (options_.effects.lambert) defines += "#define LAMBERT\n";
-  if (options_.effects.fog) defines += "#define FOG\n";
-  auto built = ShaderProgram::build(gl(), defines, shaders::kMeshVertex, shaders::kMeshFragment);
-  // Shader sources are ours: a failure is a programmer error, reported by init() as empty id.
-  return programs_.emplace(textured, built ? std::move(*built) : ShaderProgram{}).first->second;
+hlod::Status Renderer::initShadows() {
+  const GlFunctions& g = gl();
+  const int res = options_.effects.shadows->resolution;
+  shadowTexture_ = targetTexture(g, GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT, res, res);
+  g.BindTexture(GL_TEXTURE_2D, shadowTexture_.id());
+  // Hardware depth comparison, bilinear: sampler2DShadow gives filtered visibility.
+  g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  g.BindTexture(GL_TEXTURE_2D, 0);
+  shadowFramebuffer_ = GlObject::create(g, GlKind::Framebuffer);
+  g.BindFramebuffer(GL_FRAMEBUFFER, shadowFramebuffer_.id());
+  g.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadowTexture_.id(),
+                         0);
+  const GLenum none = GL_NONE;
+  g.DrawBuffers(1, &none);
+  g.ReadBuffer(GL_NONE);
+  return complete(g, "shadow map");
+}
+
+hlod::Status Renderer::initPostTargets() {
+  const GlFunctions& g = gl();
+  const int w = options_.width, h = options_.height;
+  fullscreenVao_ = GlObject::create(g, GlKind::VertexArray);  // core profile: a VAO to draw
+  if (!has(Pass::Ssao) && !has(Pass::Outline)) return hlod::Ok{};
+  postFramebuffer_ = GlObject::create(g, GlKind::Framebuffer);
+  g.BindFramebuffer(GL_FRAMEBUFFER, postFramebuffer_.id());
+  g.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_.id());
+  if (auto st = complete(g, "post"); !st) return st;
+  if (!has(Pass::Ssao)) return hlod::Ok{};
+  aoTexture_ = targetTexture(g, GL_R8, GL_RED, GL_UNSIGNED_BYTE, w, h);
+  aoFramebuffer_ = GlObject::create(g, GlKind::Framebuffer);
+  g.BindFramebuffer(GL_FRAMEBUFFER, aoFramebuffer_.id());
+  g.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, aoTexture_.id(), 0);
+  if (auto st = complete(g, "ssao"); !st) return st;
+  blurTexture_ = targetTexture(g, GL_R8, GL_RED, GL_UNSIGNED_BYTE, w, h);
+  // The blurred occlusion is read at the same pixel centres: bilinear costs nothing there.
+  blurFramebuffer_ = GlObject::create(g, GlKind::Framebuffer);
+  g.BindFramebuffer(GL_FRAMEBUFFER, blurFramebuffer_.id());
+  g.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, blurTexture_.id(), 0);
+  return complete(g, "ssao blur");
+}
+
+ResourceCounts Renderer::resources() const {
+  ResourceCounts c;
+  for (const GlObject* o :
+       {&framebuffer_, &shadowFramebuffer_, &aoFramebuffer_, &blurFramebuffer_, &postFramebuffer_})
+    c.framebuffers += static_cast<bool>(*o);
+  for (const GlObject* o : {&colour_, &depth_}) c.renderbuffers += static_cast<bool>(*o);
+  for (const GlObject* o : {&depthTexture_, &shadowTexture_, &aoTexture_, &blurTexture_})
+    c.textures += static_cast<bool>(*o);
+  for (const auto& [key, p] : programs_) c.programs += p.id() != 0;
+  for (const GlObject& q : queries_) c.queries += static_cast<bool>(q);
+  c.vertexArrays += static_cast<bool>(fullscreenVao_);
+  return c;
+}
+
+const ShaderProgram* Renderer::program(const VariantKey& key) {
+  auto it = programs_.find(key);
+  if (it != programs_.end()) return it->second.id() ? &it->second : nullptr;
+  const std::string view = shaders::kViewPosition;
+  std::string vs = shaders::kFullscreenVertex, fs;
+  switch (key.kind) {
+    case ProgramKind::Mesh:
+      vs = shaders::kMeshVertex, fs = shaders::kMeshFragment;
+      break;
+    case ProgramKind::ShadowDepth:
+      vs = shaders::kShadowVertex, fs = shaders::kShadowFragment;
+      break;
+    case ProgramKind::Sky:
+      fs = shaders::kSkyFragment;
+      break;
+    case ProgramKind::Ssao:
+      fs = view + shaders::kSsaoFragment;
+      break;
+    case ProgramKind::SsaoBlur:
+      fs = shaders::kBlurFragment;
+      break;
+    case ProgramKind::Composite:
+      fs = shaders::kCompositeFragment;
+      break;
+    case ProgramKind::Outline:
+      fs = view + shaders::kOutlineFragment;
+      break;
+  }
+  ++compiles_;
+  auto built = ShaderProgram::build(gl(), definesFor(key), vs, fs);
+  // Shader sources are ours: a failure is a programmer error, reported by init() as nullptr.
+  auto& p = programs_.emplace(key, built ? std::move(*built) : ShaderProgram{}).first->second;
+  return p.id() ? &p : nullptr;
 }
 
 FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* const> meshes) {
@@ -66,25 +267,124 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
   const auto start = Clock::now();
   const GlFunctions& g = gl();
   FrameTiming timing;
+  g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
 
+  if (has(Pass::Shadow)) {
+    // The sun's orthographic view, fitted to the sphere that holds what is drawn (the front),
+    // relative to its centre: the matrices stay small far from the origin.
+    glm::dvec3 centre = view.sceneCentre;
+    double radius = view.sceneRadius;
+    if (!(radius > 0.0)) {
+      centre = glm::dvec3(0.0);
+      std::size_t n = 0;
+      for (const GpuMesh* m : meshes)
+        if (m) centre += m->centre(), ++n;
+      if (n) centre /= static_cast<double>(n);
+      for (const GpuMesh* m : meshes)
+        if (m) radius = std::max(radius, glm::length(m->centre() - centre));
+      radius = std::max(radius * 1.2, 1.0);
+    }
+    const glm::dvec3 sun = glm::normalize(options_.effects.sun->direction);
+    shadowCentre_ = centre;
+    shadowViewProjection_ =
+        orthoZeroToOne(radius, radius, 3.0 * radius) * lookAt(sun * 2.0 * radius, {}, options_.up);
+  }
+  for (std::size_t i = 0; i < passes_.size(); ++i) {
+    g.BeginQuery(GL_TIME_ELAPSED, queries_[i].id());
+    runPass(passes_[i], view, meshes, timing);
+    g.EndQuery(GL_TIME_ELAPSED);
+  }
+  g.BindVertexArray(0);
+  g.Disable(GL_CULL_FACE);
+  g.Disable(GL_BLEND);
+  g.Finish();
+  timing.cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  for (std::size_t i = 0; i < passes_.size(); ++i) {
+    GLuint64 ns = 0;
+    g.GetQueryObjectui64v(queries_[i].id(), GL_QUERY_RESULT, &ns);
+    timing.passes.push_back({passName(passes_[i]), static_cast<double>(ns) * 1e-6});
+    timing.gpuMs += timing.passes.back().gpuMs;
+  }
+  return timing;
+}
+
+void Renderer::runPass(Pass pass, const FrameView& view, std::span<const GpuMesh* const> meshes,
+                       FrameTiming& timing) {
+  switch (pass) {
+    case Pass::Shadow:
+      shadowPass(meshes);
+      break;
+    case Pass::Geometry:
+      geometryPass(view, meshes, timing);
+      break;
+    case Pass::Sky:
+      skyPass(view);
+      break;
+    case Pass::Ssao:
+      fullscreenPass(ProgramKind::Ssao, aoFramebuffer_.id(), depthTexture_.id(), view);
+      break;
+    case Pass::SsaoBlur:
+      fullscreenPass(ProgramKind::SsaoBlur, blurFramebuffer_.id(), aoTexture_.id(), view);
+      break;
+    case Pass::Composite:
+      fullscreenPass(ProgramKind::Composite, postFramebuffer_.id(), blurTexture_.id(), view);
+      break;
+    case Pass::Outline:
+      fullscreenPass(ProgramKind::Outline, postFramebuffer_.id(), depthTexture_.id(), view);
+      break;
+  }
+}
+
+void Renderer::shadowPass(std::span<const GpuMesh* const> meshes) {
+  const GlFunctions& g = gl();
+  const int res = options_.effects.shadows->resolution;
+  g.BindFramebuffer(GL_FRAMEBUFFER, shadowFramebuffer_.id());
+  g.Viewport(0, 0, res, res);
+  g.Enable(GL_DEPTH_TEST);
+  g.DepthFunc(GL_LESS);
+  g.DepthMask(GL_TRUE);
+  g.Disable(GL_CULL_FACE);
+  g.ClearDepth(1.0);
+  g.Clear(GL_DEPTH_BUFFER_BIT);
+  const ShaderProgram* p = program({ProgramKind::ShadowDepth, 0});
+  assert(p && "compiled in init()");
+  g.UseProgram(p->id());
+  for (const GpuMesh* mesh : meshes) {
+    if (!mesh) continue;
+    const glm::mat4 m(shadowViewProjection_ * translation(mesh->centre() - shadowCentre_));
+    g.UniformMatrix4fv(p->location(Uniform::ShadowModel), 1, GL_FALSE, &m[0][0]);
+    mesh->draw(g);
+  }
+}
+
+void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* const> meshes,
+                            FrameTiming& timing) {
+  const GlFunctions& g = gl();
+  const Effects& e = options_.effects;
   g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   g.Viewport(0, 0, options_.width, options_.height);
-  g.BeginQuery(GL_TIME_ELAPSED, geometryQuery_.id());
-  g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   g.Enable(GL_DEPTH_TEST);
   g.DepthFunc(GL_GREATER);
   g.DepthMask(GL_TRUE);
   g.Disable(GL_CULL_FACE);
-  const glm::vec3 bg = options_.effects.background;
+  const glm::vec3 bg = e.background.colour;
   g.ClearColor(bg.r, bg.g, bg.b, 1.0f);
   g.ClearDepth(0.0);
   g.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
   const glm::mat4 projection(view.projection);
-  const glm::vec3 sun(glm::normalize(options_.sunDirection));
   const glm::vec3 up(glm::normalize(options_.up));
-  double fogDensity = options_.effects.fogDensity;
-  GLuint current = 0;
+  const glm::vec3 sun = e.sun ? glm::vec3(glm::normalize(e.sun->direction)) : glm::vec3(0.0f);
+  const glm::vec3 sunColour = e.sun ? e.sun->colour * e.sun->intensity : glm::vec3(0.0f);
+  const float fogDensity =
+      e.fog ? static_cast<float>(hlod::fogDensityFor(*e.fog, view.farDistance)) : 0.0f;
+  if (has(Pass::Shadow)) {
+    g.ActiveTexture(GL_TEXTURE1);
+    g.BindTexture(GL_TEXTURE_2D, shadowTexture_.id());
+    g.ActiveTexture(GL_TEXTURE0);
+  }
+  const float shadowTexel = e.shadows ? 1.0f / static_cast<float>(e.shadows->resolution) : 0.0f;
+  const ShaderProgram* current = nullptr;
   bool culling = false;
   for (const GpuMesh* mesh : meshes) {
     if (!mesh) continue;
@@ -98,41 +398,110 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
         g.Disable(GL_CULL_FACE);
       }
     }
-    const ShaderProgram& p = program(mesh->textured());
-    if (p.id() != current) {
-      current = p.id();
-      g.UseProgram(current);
-      g.UniformMatrix4fv(p.uniform(g, "uProjection"), 1, GL_FALSE, &projection[0][0]);
-      g.Uniform3fv(p.uniform(g, "uSunDir"), 1, &sun[0]);
-      g.Uniform3fv(p.uniform(g, "uUp"), 1, &up[0]);
-      g.Uniform3fv(p.uniform(g, "uBackground"), 1, &bg[0]);
-      g.Uniform1f(p.uniform(g, "uFogDensity"), static_cast<float>(fogDensity));
-      g.Uniform1i(p.uniform(g, "uTexture"), 0);
+    const ShaderProgram* p = program(meshVariant(e, mesh->textured()));
+    assert(p && "compiled in init()");
+    if (p != current) {
+      // Per-program uniforms, once per switch; a location of -1 (not in this variant) is a no-op.
+      current = p;
+      g.UseProgram(p->id());
+      g.UniformMatrix4fv(p->location(Uniform::Projection), 1, GL_FALSE, &projection[0][0]);
+      g.Uniform3fv(p->location(Uniform::Up), 1, &up[0]);
+      g.Uniform3fv(p->location(Uniform::SunDir), 1, &sun[0]);
+      g.Uniform3fv(p->location(Uniform::SunColour), 1, &sunColour[0]);
+      g.Uniform1f(p->location(Uniform::FogDensity), fogDensity);
+      g.Uniform3fv(p->location(Uniform::FogColour), 1, &bg[0]);
+      g.Uniform1i(p->location(Uniform::Texture), 0);
+      g.Uniform1i(p->location(Uniform::ShadowMap), 1);
+      g.Uniform1f(p->location(Uniform::ShadowTexel), shadowTexel);
+      g.Uniform1f(p->location(Uniform::ShadowBias), 1.5f * shadowTexel);
     }
     // Camera-relative in double, then float: precision stays where the camera is.
-    glm::dmat4 translate(1.0);
-    translate[3] = glm::dvec4(mesh->centre() - view.eye, 1.0);
-    const glm::mat4 modelView(view.rotation * translate);
-    g.UniformMatrix4fv(p.uniform(g, "uModelView"), 1, GL_FALSE, &modelView[0][0]);
-    g.Uniform4fv(p.uniform(g, "uBaseColor"), 1, &mesh->baseColor()[0]);
-    if (mesh->textured() && options_.effects.textures) {
-      g.ActiveTexture(GL_TEXTURE0);
-      g.BindTexture(GL_TEXTURE_2D, mesh->texture());
+    const glm::dvec3 offset = mesh->centre() - view.eye;
+    const glm::mat4 modelView(view.rotation * translation(offset));
+    const glm::vec3 offsetF(offset);
+    g.UniformMatrix4fv(p->location(Uniform::ModelView), 1, GL_FALSE, &modelView[0][0]);
+    g.Uniform3fv(p->location(Uniform::Offset), 1, &offsetF[0]);
+    g.Uniform4fv(p->location(Uniform::BaseColor), 1, &mesh->baseColor()[0]);
+    if (p->location(Uniform::ShadowModel) >= 0) {
+      const glm::mat4 m(shadowViewProjection_ * translation(mesh->centre() - shadowCentre_));
+      g.UniformMatrix4fv(p->location(Uniform::ShadowModel), 1, GL_FALSE, &m[0][0]);
     }
+    if (mesh->textured() && e.textures) g.BindTexture(GL_TEXTURE_2D, mesh->texture());
     mesh->draw(g);
     timing.triangles += mesh->triangles();
     ++timing.drawCalls;
   }
-  g.BindVertexArray(0);
   g.Disable(GL_CULL_FACE);
-  g.EndQuery(GL_TIME_ELAPSED);
-  g.Finish();
-  timing.cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  GLuint64 ns = 0;
-  g.GetQueryObjectui64v(geometryQuery_.id(), GL_QUERY_RESULT, &ns);
-  timing.passes.push_back({"geometry", static_cast<double>(ns) * 1e-6});
-  for (const auto& pass : timing.passes) timing.gpuMs += pass.gpuMs;
-  return timing;
+}
+
+void Renderer::skyPass(const FrameView& view) {
+  const GlFunctions& g = gl();
+  const Effects& e = options_.effects;
+  // Only where nothing was drawn: the depth is still the clear value 0 (far, reversed-Z).
+  g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  g.Enable(GL_DEPTH_TEST);
+  g.DepthFunc(GL_GEQUAL);
+  g.DepthMask(GL_FALSE);
+  const ShaderProgram* p = program({ProgramKind::Sky, e.sun ? variant::kSunDisc : 0});
+  assert(p && "compiled in init()");
+  g.UseProgram(p->id());
+  const glm::mat4 inv(glm::inverse(view.projection * view.rotation));
+  const glm::vec3 up(glm::normalize(options_.up));
+  g.UniformMatrix4fv(p->location(Uniform::InvViewProj), 1, GL_FALSE, &inv[0][0]);
+  g.Uniform3fv(p->location(Uniform::Up), 1, &up[0]);
+  g.Uniform3fv(p->location(Uniform::Horizon), 1, &e.background.colour[0]);
+  g.Uniform3fv(p->location(Uniform::Zenith), 1, &e.background.zenith[0]);
+  g.Uniform3fv(p->location(Uniform::Ground), 1, &e.background.ground[0]);
+  if (e.sun) {
+    const glm::vec3 sun(glm::normalize(e.sun->direction));
+    const glm::vec3 colour = e.sun->colour * e.sun->intensity;
+    g.Uniform3fv(p->location(Uniform::SunDir), 1, &sun[0]);
+    g.Uniform3fv(p->location(Uniform::SunColour), 1, &colour[0]);
+  }
+  g.BindVertexArray(fullscreenVao_.id());
+  g.DrawArrays(GL_TRIANGLES, 0, 3);
+  g.DepthMask(GL_TRUE);
+}
+
+void Renderer::fullscreenPass(ProgramKind kind, GLuint target, GLuint input,
+                              const FrameView& view) {
+  const GlFunctions& g = gl();
+  const Effects& e = options_.effects;
+  g.BindFramebuffer(GL_FRAMEBUFFER, target);
+  g.Viewport(0, 0, options_.width, options_.height);
+  g.Disable(GL_DEPTH_TEST);
+  g.DepthMask(GL_FALSE);
+  const ShaderProgram* p = program({kind, 0});
+  assert(p && "compiled in init()");
+  g.UseProgram(p->id());
+  g.ActiveTexture(GL_TEXTURE0);
+  g.BindTexture(GL_TEXTURE_2D, input);
+  g.Uniform1i(p->location(Uniform::Depth), 0);
+  g.Uniform1i(p->location(Uniform::Ao), 0);
+  const glm::vec4 proj(view.projection[0][0], view.projection[1][1], view.projection[2][2],
+                       view.projection[3][2]);
+  g.Uniform4fv(p->location(Uniform::ProjectionParams), 1, &proj[0]);
+  if (kind == ProgramKind::Ssao) {
+    g.Uniform1f(p->location(Uniform::AoRadius), static_cast<float>(e.ssao->radius));
+    g.Uniform1f(p->location(Uniform::AoStrength), e.ssao->strength);
+    g.Uniform1i(p->location(Uniform::AoSamples), e.ssao->samples);
+  }
+  if (kind == ProgramKind::Composite) {
+    g.Enable(GL_BLEND);
+    g.BlendFunc(GL_DST_COLOR, GL_ZERO);  // colour x occlusion
+  } else if (kind == ProgramKind::Outline) {
+    g.Enable(GL_BLEND);
+    g.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    g.Uniform3fv(p->location(Uniform::OutlineColour), 1, &e.outline->colour[0]);
+    g.Uniform1f(p->location(Uniform::OutlineThickness), e.outline->thickness);
+    g.Uniform1f(p->location(Uniform::OutlineThreshold), e.outline->threshold);
+  } else {
+    g.Disable(GL_BLEND);
+  }
+  g.BindVertexArray(fullscreenVao_.id());
+  g.DrawArrays(GL_TRIANGLES, 0, 3);
+  g.Disable(GL_BLEND);
+  g.DepthMask(GL_TRUE);
 }
 
 hlod::Image Renderer::readback() {

@@ -1,9 +1,23 @@
 #include "renderer/ShaderProgram.h"
 
+#include <iterator>
 #include <vector>
 
 namespace renderer {
 namespace {
+
+// The GLSL names of the Uniform enumerators, in their order.
+constexpr const char* kUniformNames[] = {
+    "uModelView",     "uProjection",       "uOffset",
+    "uBaseColor",     "uTexture",          "uUp",
+    "uSunDir",        "uSunColour",        "uFogDensity",
+    "uFogColour",     "uShadowModel",      "uShadowMap",
+    "uShadowBias",    "uShadowTexel",      "uInvViewProj",
+    "uHorizon",       "uZenith",           "uGround",
+    "uDepth",         "uProjectionParams", "uAoRadius",
+    "uAoStrength",    "uAoSamples",        "uAo",
+    "uOutlineColour", "uOutlineThickness", "uOutlineThreshold"};
+static_assert(std::size(kUniformNames) == static_cast<std::size_t>(Uniform::Count));
 
 hlod::Result<GlObject> compile(const GlFunctions& gl, GLenum type, const std::string& source) {
   GlObject shader = GlObject::create(gl, GlKind::Shader, type);
@@ -23,8 +37,8 @@ hlod::Result<GlObject> compile(const GlFunctions& gl, GLenum type, const std::st
 }  // namespace
 
 hlod::Result<ShaderProgram> ShaderProgram::build(const GlFunctions& gl, const std::string& defines,
-                                                 const char* vertexSource,
-                                                 const char* fragmentSource) {
+                                                 const std::string& vertexSource,
+                                                 const std::string& fragmentSource) {
   const std::string header = "#version 450 core\n" + defines;
   auto vs = compile(gl, GL_VERTEX_SHADER, header + vertexSource);
   if (!vs) return vs.error();
@@ -42,6 +56,8 @@ hlod::Result<ShaderProgram> ShaderProgram::build(const GlFunctions& gl, const st
     gl.GetProgramInfoLog(p.program_.id(), static_cast<GLsizei>(log.size()), nullptr, log.data());
     return hlod::makeError(std::string("shader link failed: ") + log.data());
   }
+  for (std::size_t i = 0; i < p.locations_.size(); ++i)
+    p.locations_[i] = gl.GetUniformLocation(p.program_.id(), kUniformNames[i]);
   return p;
 }
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hlod/NodeStore.h"
+#include "hlod/SceneFile.h"
 #include "renderer/VideoWriter.h"
 
 namespace service {
@@ -102,7 +103,11 @@ hlod::Status Session::init(renderer::GlContext& context) {
   lp.ioLatencyMs = options_.ioLatencyMs;
   lp.ioRequests = options_.ioRequests;
   lp.cache = options_.cache;
-  lp.cacheStore = options_.cacheStore;
+  // No textures declared: the loader never reads them, and its texture-less meshes are cached
+  // apart from those of textured sessions of the same store.
+  lp.textures = options_.effects.textures;
+  lp.cacheStore =
+      options_.effects.textures ? options_.cacheStore : options_.cacheStore | 0x80000000u;
   loader_ = std::make_unique<hlod::Loader>(*source_, lp);
 
   hlod::FrameDriverOptions fo;
@@ -113,6 +118,9 @@ hlod::Status Session::init(renderer::GlContext& context) {
   fo.width = options_.width;
   fo.height = options_.height;
   fo.recentFrames = options_.recentFrames;
+  // A declared density culls what it hides; a derived one (1 / far) never reaches the model.
+  if (options_.effects.fog && options_.effects.fog->density > 0.0)
+    fo.fogCullDistance = hlod::fogCullDistance(options_.effects.fog->density);
   driver_ = std::make_unique<hlod::FrameDriver>(std::move(*sel), std::move(*ahead), *loader_,
                                                 *renderer_, fo);
   return driver_->start(options_.knownVTime);

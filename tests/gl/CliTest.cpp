@@ -127,3 +127,29 @@ TEST_F(HlodrCli, GeneratesAndRendersASmallCity) {
     }
   EXPECT_GT(covered, img->width * img->height / 10);
 }
+
+TEST_F(HlodrCli, RenderTakesASceneFileAndNamesTheFieldOfABadOne) {
+  std::ofstream(path("sky.json")) << R"({"background": {"sky": {"horizon": [0.9, 0.9, 1]}},
+      "effects": {"shading": "lambert", "sun": true, "outline": true}})";
+  const auto ok = hlodr("render " + path("tetra.off") + " -o " + path("s.png") +
+                        " --size 64x48 --scene " + path("sky.json"));
+  ASSERT_EQ(ok.status, 0) << ok.output;
+  const auto plain =
+      hlodr("render " + path("tetra.off") + " -o " + path("p.png") + " --size 64x48");
+  ASSERT_EQ(plain.status, 0) << plain.output;
+  auto a = hlod::loadImage(path("s.png")), b = hlod::loadImage(path("p.png"));
+  ASSERT_TRUE(a && b);
+  EXPECT_GT(gltest::compare(*a, *b).differingShare, 0.3);  // the sky behind the model
+
+  std::ofstream(path("bad.json")) << R"({"effects": {"fog": {"density": "thick"}}})";
+  const auto bad = hlodr("render " + path("tetra.off") + " -o " + path("b.png") + " --scene " +
+                         path("bad.json"));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("bad.json: effects.fog.density: must be a number in 0..1"),
+            std::string::npos)
+      << bad.output;
+  const auto both = hlodr("render " + path("tetra.off") + " -o " + path("b.png") +
+                          " --fog --scene " + path("sky.json"));
+  EXPECT_EQ(both.status, 2);
+  EXPECT_NE(both.output.find("--fog and --scene"), std::string::npos) << both.output;
+}

@@ -141,7 +141,7 @@ TEST(Renderer, SamplesTexturesWithTopLeftOrigin) {
   ASSERT_TRUE(ctx);
   renderer::RenderOptions options;
   options.width = options.height = 64;
-  options.effects.lambert = false;
+  options.effects.shading = hlod::Shading::Unlit;
   auto r = renderer::Renderer::create(*ctx, options);
   ASSERT_TRUE(r);
   // A quad filling the view, uv (0,0) at the top-left of the screen.
@@ -190,7 +190,7 @@ TEST(Renderer, ReversedZKeepsSurfacesHalfAMetreApartAtTenKilometresWithNearAtTen
   renderer::RenderOptions options;
   options.width = 96;
   options.height = 64;
-  options.effects.lambert = false;
+  options.effects.shading = hlod::Shading::Unlit;
   auto r = renderer::Renderer::create(*ctx, options);
   ASSERT_TRUE(r);
   auto g1 = renderer::GpuMesh::upload(ctx->gl(), hlod::toLocal(back));

@@ -273,7 +273,7 @@ TEST_F(DegenerateModel, ASingleTriangleBuildsOneNodeThatEverySelectorDrawsAndASe
   service::SessionOptions o;
   o.width = 64;
   o.height = 64;
-  o.effects.lambert = false;
+  o.effects.shading = hlod::Shading::Unlit;
   auto session = service::Session::open(store, o);
   ASSERT_TRUE(session.ok()) << session.message();
   hlod::CameraSample sample;

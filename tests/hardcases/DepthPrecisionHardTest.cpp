@@ -55,7 +55,7 @@ TEST(DepthPrecision, AFacadeOneCentimetreInFrontOfAnotherAtFiveKilometresCoversI
   renderer::RenderOptions options;
   options.width = 192;
   options.height = 96;
-  options.effects.lambert = false;
+  options.effects.shading = hlod::Shading::Unlit;
   auto r = renderer::Renderer::create(**ctx, options);
   ASSERT_TRUE(r.ok()) << r.message();
   std::vector<Place> places;

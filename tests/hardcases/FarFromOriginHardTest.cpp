@@ -143,7 +143,7 @@ TEST_F(FarFromOrigin, ImagesOfACameraMovingAMillimetreAFrameMoveWithItAt6400Km) 
   ASSERT_TRUE(ctx.ok()) << ctx.message();
   renderer::RenderOptions options;
   options.width = options.height = kSize;
-  options.effects.lambert = false;
+  options.effects.shading = hlod::Shading::Unlit;
   for (const Place& place : places()) {
     SCOPED_TRACE(place.name);
     auto r = renderer::Renderer::create(**ctx, options);
@@ -180,7 +180,7 @@ TEST_F(FarFromOrigin, SettledFramesOfAStoreMoveWithACameraMovingAMillimetreAFram
     ASSERT_GT(built->nodes.size(), 1u);
     service::SessionOptions o;
     o.width = o.height = kSize;
-    o.effects.lambert = false;
+    o.effects.shading = hlod::Shading::Unlit;
     auto session = service::Session::open(store, o);
     ASSERT_TRUE(session.ok()) << session.message();
     std::vector<Feature> frames;

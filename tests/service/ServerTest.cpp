@@ -185,6 +185,46 @@ TEST_F(ServerTest, RenderAnswersAnImageWithServerTimingAndStatsHeaders) {
   EXPECT_TRUE(isPng(png->body));
 }
 
+TEST_F(ServerTest, RenderTakesASceneInlineOrAsAFileAndRunsOnlyItsPasses) {
+  start();
+  std::ofstream(dataDir() / "sunny.json")
+      << R"({"store": "../somewhere/city.hlod", "background": {"sky": {}},
+            "effects": {"shading": "lambert", "sun": true, "ssao": true}})";
+  auto statsOf = [](const httplib::Result& r) {
+    return json::parse(r->get_header_value("X-Hlodr-Stats"), nullptr, false);
+  };
+  auto plain = post("/api/render", {{"scene", "city"}, {"width", 96}, {"height", 64}});
+  ASSERT_TRUE(plain);
+  ASSERT_EQ(plain->status, 200) << plain->body;
+  const json p = statsOf(plain);
+  EXPECT_EQ(p["ssaoMs"].get<double>(), 0.0);  // not declared: the pass does not run
+  EXPECT_EQ(p["skyMs"].get<double>(), 0.0);
+  EXPECT_GT(p["geometryMs"].get<double>(), 0.0);
+  auto file = post("/api/render", {{"scene", "sunny.json"}, {"width", 96}, {"height", 64}});
+  ASSERT_TRUE(file);
+  ASSERT_EQ(file->status, 200) << file->body;
+  const json f = statsOf(file);
+  EXPECT_GT(f["ssaoMs"].get<double>() + f["ssaoBlurMs"].get<double>(), 0.0);
+  EXPECT_NE(file->body, plain->body);
+  const json inlined = {{"store", "city"}, {"effects", {{"outline", true}}}};
+  auto in = post("/api/render", {{"scene", inlined}, {"width", 96}, {"height", 64}});
+  ASSERT_TRUE(in);
+  ASSERT_EQ(in->status, 200) << in->body;
+  EXPECT_EQ(statsOf(in)["ssaoMs"].get<double>(), 0.0);
+  auto bad = post("/api/render", {{"scene", {{"store", "city"}, {"effects", {{"bloom", true}}}}}});
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  EXPECT_NE(bad->body.find("scene.effects.bloom: unknown effect (known: textures"),
+            std::string::npos)
+      << bad->body;
+  auto missing = post("/api/render", {{"scene", "cloudy.json"}});
+  ASSERT_TRUE(missing);
+  EXPECT_EQ(missing->status, 404);
+  auto outside = post("/api/render", {{"scene", "../x.json"}});
+  ASSERT_TRUE(outside);
+  EXPECT_EQ(outside->status, 400);
+}
+
 TEST_F(ServerTest, BadInputIsA4xxThatNamesTheFieldAndTheServerKeepsServing) {
   start();
   struct Case {

@@ -159,6 +159,34 @@ TEST(FrameDriver, ANewSessionsFirstSettledFrameHoldsTheBudget) {
   }
 }
 
+TEST(FrameDriver, APerPixelPassIsReservedFromTheBudgetAndLeftOutOfVTime) {
+  // SSAO costs 12 ms whatever the front: the geometry gets 33 - 12 ms, and v_time stays the
+  // machine's ms per unit of cost (without the reservation it would absorb the 12 ms as if they
+  // scaled with the triangles, and overshoot when the front changes).
+  auto settle = [](double screenMs, double& vTime) {
+    Rig rig(heavyCity(), 33.0);
+    rig.renderer.msScreenPass = screenMs;
+    EXPECT_TRUE(rig.driver->start().ok());
+    rig.loadAll();
+    FrameRecord last;
+    for (int i = 0; i < 30; ++i) {
+      auto r = rig.driver->renderFrame(rig.street(), FrameMode::Settled);
+      EXPECT_TRUE(r.ok());
+      last = *r;
+    }
+    vTime = rig.driver->selector().vTime();
+    return last;
+  };
+  double vPlain = 0.0, vSsao = 0.0;
+  const FrameRecord plain = settle(0.0, vPlain);
+  const FrameRecord ssao = settle(12.0, vSsao);
+  EXPECT_NEAR(ssao.gpuMs, 33.0, 0.1 * 33.0);
+  EXPECT_NEAR(plain.gpuMs, 33.0, 0.1 * 33.0);
+  EXPECT_EQ(ssao.ssaoMs, 12.0);
+  EXPECT_LT(ssao.triangles, plain.triangles * 0.8);
+  EXPECT_NEAR(vSsao, vPlain, 0.15 * vPlain);
+}
+
 TEST(FrameDriver, AfterATenfoldSlowdownTheFramesAreBackOnBudgetWithinThreeFrames) {
   Rig rig(heavyCity(), 33.0);
   ASSERT_TRUE(rig.driver->start().ok());

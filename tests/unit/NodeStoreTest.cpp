@@ -10,6 +10,7 @@
 
 #include "BuildTestMeshes.h"
 #include "hlod/HlodBuilder.h"
+#include "hlod/Loader.h"
 #include "hlod/NodeStore.h"
 
 using namespace hlod;
@@ -95,6 +96,9 @@ TEST_F(NodeStoreFixture, RoundTripKeepsEveryNodeField) {
     EXPECT_EQ(a.avgNormal, b.avgNormal);
     EXPECT_EQ(a.geometricError, b.geometricError);
     EXPECT_EQ(a.payloadChecksum, b.payloadChecksum);
+    EXPECT_EQ(a.textureSize, b.textureSize);
+    EXPECT_EQ(a.textureChecksum, b.textureChecksum);
+    EXPECT_EQ(a.textureBytes, b.textureBytes);
     auto mesh = (*store)->loadNode(std::uint32_t(i));
     ASSERT_TRUE(mesh) << mesh.message();
     EXPECT_EQ(mesh->triangleCount(), a.numTri);
@@ -108,6 +112,42 @@ TEST_F(NodeStoreFixture, RoundTripKeepsEveryNodeField) {
         EXPECT_LE(w[k], a.bounds.max[k] + 1e-5);
       }
     }
+  }
+}
+
+TEST_F(NodeStoreFixture, ALoaderWithoutTexturesReadsDecodesAndKeepsNoTextureBytes) {
+  auto opened = NodeStore::open(store_);
+  ASSERT_TRUE(opened) << opened.message();
+  const NodeStore& store = **opened;
+  const Skeleton& s = store.skeleton();
+  std::uint64_t all = 0, mesh = 0, memory = 0, memoryWithout = 0;
+  std::vector<LoadRequest> everything;
+  for (std::uint32_t i = 0; i < s.nodes.size(); ++i) {
+    const NodeInfo& n = s.nodes[i];
+    all += n.payloadSize;
+    mesh += n.payloadSize - n.textureSize;
+    memory += n.memoryBytes;
+    memoryWithout += n.memoryBytes - n.textureBytes;
+    EXPECT_EQ(n.textureSize > 0, n.numTexTri > 0) << "node " << i;
+    everything.push_back({i, 1.0 + s.nodes[i].level});
+  }
+  ASSERT_LT(mesh, all);  // the model's first mesh is textured
+  for (bool textures : {true, false}) {
+    LoaderParams p;
+    p.textures = textures;
+    Loader loader(store, p);
+    ASSERT_TRUE(loader.loadRoots());
+    loader.setWanted(everything);
+    while (loader.step()) {
+    }
+    int texturedMeshes = 0;
+    for (const LoaderEvent& e : loader.drainEvents())
+      if (e.kind == LoaderEvent::Kind::Loaded) texturedMeshes += e.mesh->texture != nullptr;
+    const LoaderCounters c = loader.counters();
+    EXPECT_EQ(c.loadsFinished, s.nodes.size());
+    EXPECT_EQ(c.bytesRead, textures ? all : mesh) << "textures " << textures;
+    EXPECT_EQ(c.residentBytes, textures ? memory : memoryWithout) << "textures " << textures;
+    EXPECT_EQ(texturedMeshes > 0, textures);
   }
 }
 

@@ -20,6 +20,7 @@ class SimulatedRenderer final : public NodeRenderer {
   double msPerTriangle = 1e-4;  // 10 M triangles/s
   double msPerFrame = 0.5;      // clear, state changes: not proportional to the front
   double msPerUpload = 1.0;
+  double msScreenPass = 0.0;  // a per-pixel pass (as SSAO): the same whatever the front
 
   void queueUpload(std::uint32_t node, std::shared_ptr<const LocalMesh> mesh) override {
     pending_.emplace_back(node, std::move(mesh));
@@ -47,8 +48,11 @@ class SimulatedRenderer final : public NodeRenderer {
       if (!onGpu_.isResident(n)) return makeError("drew a node that is not on the GPU");
       d.triangles += triangles_.at(n);
     }
-    d.ms = msPerFrame + msPerTriangle * static_cast<double>(d.triangles);
+    const double geometry = msPerFrame + msPerTriangle * static_cast<double>(d.triangles);
+    d.ms = geometry + msScreenPass;
     d.gpuMs = d.ms;
+    d.passes.push_back({"geometry", geometry});
+    if (msScreenPass > 0.0) d.passes.push_back({"ssao", msScreenPass});
     d.drawCalls = front.size();
     lastFront.assign(front.begin(), front.end());
     return d;

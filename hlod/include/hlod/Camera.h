@@ -3,6 +3,7 @@
 // double precision, distance of a box outside the frustum (for frustumVis) and the pixels per
 // world unit at a distance (for screen-space-error selection). Pure math, no GL.
 #include <array>
+#include <limits>
 
 #include <glm/glm.hpp>
 
@@ -63,6 +64,9 @@ struct View {
   // Of this frame's budget, the ms already spent before drawing (the GPU uploads of nodes that
   // finished loading): budgeted selectors give the drawing what is left of c_targetTime.
   double spentMs = 0.0;
+  // Distance fog: nodes wholly farther than this are fully fogged and culled (as Cesium culls
+  // tiles whose fog factor reaches 1; hlod::fogCullDistance). Infinite: no fog culling.
+  double fogCullDistance = std::numeric_limits<double>::infinity();
 };
 
 }  // namespace hlod

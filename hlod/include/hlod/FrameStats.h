@@ -12,7 +12,9 @@
 //     coarserNotResident (nodes drawn coarser because a visible child was not resident), stalls
 //     (frames or waits the renderer counted as a stall, e.g. settled-mode waits), uploadMs
 //     (GPU uploads in this frame, ms), drawMs (the drawing through glFinish, ms), queryGpuMs (the
-//     passes' GL_TIME_ELAPSED sum, ms), uploads, uploadBytes, pendingUploads (loaded, waiting for
+//     passes' GL_TIME_ELAPSED sum, ms), shadowMs, geometryMs, skyMs, ssaoMs, ssaoBlurMs,
+//     compositeMs, outlineMs (each pass's GL_TIME_ELAPSED, ms; 0 for a pass the scene does not
+//     declare, which does not run), uploads, uploadBytes, pendingUploads (loaded, waiting for
 //     an upload), loadErrors and bytesRead (cumulative, of the loader), cacheHits (cumulative:
 //     nodes another session had decoded already).
 //   summary: frames, medianRelError and p95RelError (of |gpuMs - targetMs| / targetMs),
@@ -57,6 +59,13 @@ struct FrameRecord {
   double uploadMs = 0.0;
   double drawMs = 0.0;
   double queryGpuMs = 0.0;
+  double shadowMs = 0.0;
+  double geometryMs = 0.0;
+  double skyMs = 0.0;
+  double ssaoMs = 0.0;
+  double ssaoBlurMs = 0.0;
+  double compositeMs = 0.0;
+  double outlineMs = 0.0;
   std::uint32_t uploads = 0;
   std::uint64_t uploadBytes = 0;
   std::uint32_t pendingUploads = 0;
@@ -67,6 +76,12 @@ struct FrameRecord {
 
 // Copies the selector's part (targetMs, estimatedMs, triangles, levels, toggles, vTime, ...).
 void fillFromSelection(FrameRecord& record, const Selection& selection);
+// Sets the per-pass field of the pass named `pass` ("shadow", "geometry", "sky", "ssao",
+// "ssao-blur", "composite", "outline"); false for another name.
+bool setPassMs(FrameRecord& record, const std::string& pass, double ms);
+// A pass whose cost is per pixel, not per triangle of the front (sky, ssao, ssao-blur,
+// composite, outline); shadow and geometry draw the front.
+bool isScreenPass(const std::string& pass);
 // Copies the loader's part (residentBytes, capBytes, load/unload counts).
 void fillFromLoader(FrameRecord& record, const LoaderCounters& counters);
 

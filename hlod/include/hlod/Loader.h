@@ -72,6 +72,11 @@ struct LoaderParams {
   // too, and waits while they do not fit.
   std::shared_ptr<NodeCache> cache;
   std::uint32_t cacheStore = 0;  // this store's number in the cache's keys (NodeCache::key)
+  // false: the scene declares no textures. Loads read only the payloads' mesh sections (the
+  // texture sections are never read, inflated or kept: NodeInfo::textureSize), and the memory
+  // cap counts memoryBytes - textureBytes. Give such a loader a cacheStore of its own: its
+  // meshes have no texture.
+  bool textures = true;
 };
 
 struct LoaderEvent {
@@ -143,6 +148,11 @@ class Loader final : public Residency {
   bool waitUntilIdle(std::chrono::milliseconds timeout);
 
  private:
+  // What a load of the node reads, and what the node holds once decoded (without textures:
+  // less its texture section).
+  std::uint64_t readSizeOf(std::uint32_t node) const;
+  std::uint64_t memoryOf(std::uint32_t node) const;
+
   struct Partial {
     std::vector<std::byte> bytes;
     std::uint64_t filled = 0;

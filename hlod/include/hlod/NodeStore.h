@@ -10,7 +10,10 @@
 //     2: one-sided), u32 texWidth, u32 texHeight, f32 baseColor[4], f32 positions[3 vc] (relative
 //     to the node's centre), f32 normals[3 vc], f32 texCoords[2 vc] (if flagged), u32
 //     indices[ic], u8 RGBA pixels[4 w h]: NodeInfo::memoryBytes in all. payload.bin holds it
-//     deflated: NodeInfo::payloadSize bytes, whose CRC-32 is NodeInfo::payloadChecksum.
+//     in two sections, each deflated on its own: the mesh (all but the pixels; CRC-32
+//     NodeInfo::payloadChecksum), then the pixels (NodeInfo::textureSize stored bytes, CRC-32
+//     textureChecksum; absent without a texture), NodeInfo::payloadSize bytes in all. A scene
+//     without textures reads only the mesh section.
 // A truncated or corrupted store is an Error when opened or decoded, never a crash.
 #include <cstddef>
 #include <cstdint>
@@ -24,8 +27,8 @@
 
 namespace hlod {
 
-constexpr std::uint32_t kSkeletonFormatVersion = 2;
-constexpr std::uint32_t kPayloadFormatVersion = 1;
+constexpr std::uint32_t kSkeletonFormatVersion = 3;
+constexpr std::uint32_t kPayloadFormatVersion = 2;
 
 // Facts about a whole store, beside the Skeleton.
 struct StoreFacts {
@@ -42,7 +45,9 @@ std::uint32_t crc32(std::span<const std::byte> bytes);
 std::vector<std::byte> encodePayload(const LocalMesh& mesh);
 // Decodes with strict checks: exact size, counts against sizes, index < vertex count, finite
 // values. centre is the node's centre (from the skeleton).
-Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, const glm::dvec3& centre);
+// pixels false: bytes end before the pixels (the mesh section), and the mesh has no texture.
+Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, const glm::dvec3& centre,
+                                     bool pixels = true);
 // The stored form of a payload in payload.bin: raw DEFLATE (libdeflate, level 1), and back.
 // Inflating gives exactly memoryBytes or an Error.
 std::vector<std::byte> compressPayload(std::span<const std::byte> raw);
@@ -74,6 +79,8 @@ class NodeStore final : public NodeSource {
   // Thread-safe (pread).
   Status readPayloadChunk(std::uint32_t node, std::uint64_t offset,
                           std::span<std::byte> out) const override;
+  // bytes: the whole stored payload, or only its mesh section (payloadSize - textureSize bytes,
+  // a load without textures): then the mesh has no texture.
   Result<LocalMesh> decodePayload(std::uint32_t node,
                                   std::span<const std::byte> bytes) const override;
   // Reads and decodes a whole payload: the loader's two steps in one, for tools and tests.

@@ -74,6 +74,7 @@ struct Selection {
   std::vector<LoadRequest> loadPriorities;  // every visited node, resident or not
   std::uint32_t upToggles = 0;    // nodes drawn last frame, replaced by their children now
   std::uint32_t downToggles = 0;  // nodes whose children were drawn last frame, drawn now
+  std::uint32_t fogCulled = 0;    // visible nodes left out: wholly beyond View::fogCullDistance
   std::uint32_t coarserBecauseNotResident = 0;    // drawn coarser: a visible child not resident
   std::vector<std::uint32_t> nodesDrawnPerLevel;  // index = level d of hlod_d
   std::uint64_t triangles = 0;                    // sum of numTri of the front
@@ -230,6 +231,8 @@ class Selector {
   // The inverse: a node refined this frame whose children are all drawn (none refined further)
   // is drawn instead of them. Call finishFrame again afterwards.
   void replaceByParent(std::uint32_t node, Selection& s);
+  // The node's box lies wholly beyond View::fogCullDistance of this frame.
+  bool fullyFogged(std::uint32_t node) const;
   bool refinedThisFrame(std::uint32_t node) const { return refinedFrame_[node] == frame_; }
   double effectiveCost(std::uint32_t node) const;  // max(cost, c_minCost)
   bool refinedLastFrame(std::uint32_t node) const { return refinedFrame_[node] == frame_ - 1; }
@@ -246,6 +249,11 @@ class Selector {
     std::vector<std::uint32_t> children;
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const std::uint32_t n = queue[head];
+      // Fully fogged: drawn it would be the fog colour, which the background already is.
+      if (fullyFogged(n)) {
+        ++s.fogCulled;
+        continue;
+      }
       const NodeInfo& info = nodes[n];
       // A decoded skeleton keeps every child range inside the nodes (decodeSkeleton).
       assert(info.childCount == 0 ||
@@ -257,7 +265,12 @@ class Selector {
       }
       children.clear();
       for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c)
-        if (visit(c)) children.push_back(c);
+        if (visit(c)) {
+          if (!fullyFogged(c))
+            children.push_back(c);
+          else
+            ++s.fogCulled;
+        }
       if (!refine(n, children)) {
         markDrawn(n, s);
         continue;
@@ -284,6 +297,8 @@ class Selector {
   static constexpr std::uint32_t kNever = 0xffffffffu;
   VTimeFeedback feedback_;
   VTimeFeedback steadyFeedback_;
+  glm::dvec3 fogEye_{0.0};
+  double fogCullDistance_ = std::numeric_limits<double>::infinity();
   double lastEstimatedCost_ = 0.0;
   std::uint32_t maxLevel_ = 0;
   std::vector<std::uint32_t> drawnFrame_;     // last frame each node was drawn

@@ -29,8 +29,15 @@ struct NodeInfo {
   double geometricError = 0.0;  // world units; 0 at the leaves (for screen-space-error selection)
   std::uint64_t payloadOffset = 0;
   std::uint64_t payloadSize = 0;      // bytes stored in payload.bin (compressed): what a load reads
-  std::uint32_t payloadChecksum = 0;  // CRC-32 of those stored bytes
+  std::uint32_t payloadChecksum = 0;  // CRC-32 of the mesh section (the stored bytes before the
+                                      // texture section)
   std::uint64_t memoryBytes = 0;      // the decoded payload: what a resident node holds
+  // The texture's own section, the last textureSize of the payloadSize stored bytes (0: none):
+  // a scene without textures reads payloadSize - textureSize and holds memoryBytes -
+  // textureBytes.
+  std::uint64_t textureSize = 0;
+  std::uint32_t textureChecksum = 0;  // CRC-32 of the texture section's stored bytes
+  std::uint64_t textureBytes = 0;     // its decoded RGBA8 pixels
 };
 
 struct BuildParams {

@@ -61,6 +61,13 @@ void FrameDriver::drainLoader() {
   }
 }
 
+double screenPassMs(const DrawReport& report) {
+  double ms = 0.0;
+  for (const PassTime& p : report.passes)
+    if (isScreenPass(p.name)) ms += std::isfinite(p.gpuMs) ? std::max(0.0, p.gpuMs) : 0.0;
+  return ms;
+}
+
 Status FrameDriver::start(double knownVTime) {
   if (auto roots = loader_.loadRoots(); !roots) return roots.error();
   // hlod_0 is what everything falls back to: on the GPU before the first frame, unbudgeted.
@@ -90,7 +97,10 @@ Status FrameDriver::start(double knownVTime) {
     double cost = 0.0;
     for (std::uint32_t r : skel.roots)
       cost += std::max(skel.nodes[r].cost, selector_->params().lakhia.c_minCost);
-    if (timed->ms > 0.0 && cost > 0.0) measuredVTime_ = timed->ms / cost;
+    // Per-pixel passes do not scale with the front: v_time is the rest, per unit of cost.
+    screenPassMs_ = screenPassMs(*timed);
+    const double perCost = timed->ms - screenPassMs_;
+    if (perCost > 0.0 && cost > 0.0) measuredVTime_ = perCost / cost;
   }
   const double v = knownVTime > 0.0 ? knownVTime : measuredVTime_;
   if (v > 0.0 && std::isfinite(v)) {
@@ -118,9 +128,11 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   }
 
   View view{sample.camera, sample.velocity, options_.width, options_.height};
+  view.fogCullDistance = options_.fogCullDistance;
   view.camera.aspect = static_cast<double>(options_.width) / options_.height;
-  // This frame's uploads are done: the drawing gets the rest of the budget.
-  view.spentMs = rec.uploadMs;
+  // This frame's uploads are done, and the per-pixel passes (sky, SSAO, outline) will cost what
+  // they cost last frame whatever the front: the geometry gets the rest of the budget.
+  view.spentMs = rec.uploadMs + screenPassMs_;
   const auto selectStart = Clock::now();
   // Settled: select as if everything were resident; that front is then loaded before drawing.
   const AllResident allResident;
@@ -178,7 +190,11 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
 
   // Frame time: this frame's uploads plus the GL work through glFinish (settled-mode uploads
   // belong to the stall, not to the frame). v_time learns from the drawing alone.
-  selector_->feedback(drawn->ms);
+  // The per-pixel passes' measured time leaves the feedback (and is spent next frame, above); the
+  // shadow pass draws the front again and stays in it: v_time is per unit of cost of all passes
+  // that draw the front.
+  screenPassMs_ = std::min(screenPassMs(*drawn), drawn->ms);
+  selector_->feedback(drawn->ms - screenPassMs_);
   rec.index = frames_++;
   rec.time = sample.time;
   fillFromSelection(rec, sel);
@@ -186,6 +202,10 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   rec.triangles = drawn->triangles;  // what was drawn (equal to the front's numTri sum)
   rec.drawMs = drawn->ms;
   rec.queryGpuMs = drawn->gpuMs;
+  for (const PassTime& p : drawn->passes) {
+    [[maybe_unused]] const bool known = setPassMs(rec, p.name, p.gpuMs);
+    assert(known && "a pass FrameRecord has no field for");
+  }
   rec.gpuMs = (settled ? 0.0 : rec.uploadMs) + drawn->ms;
   rec.pendingUploads = static_cast<std::uint32_t>(renderer_.pendingUploads());
   rec.cpuMs = msSince(frameStart) - waitMs;

@@ -48,6 +48,28 @@ void fillFromSelection(FrameRecord& r, const Selection& s) {
   r.coarserNotResident = s.coarserBecauseNotResident;
 }
 
+bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
+  static const std::pair<const char*, double FrameRecord::*> kPasses[] = {
+      {"shadow", &FrameRecord::shadowMs},
+      {"geometry", &FrameRecord::geometryMs},
+      {"sky", &FrameRecord::skyMs},
+      {"ssao", &FrameRecord::ssaoMs},
+      {"ssao-blur", &FrameRecord::ssaoBlurMs},
+      {"composite", &FrameRecord::compositeMs},
+      {"outline", &FrameRecord::outlineMs}};
+  for (const auto& [name, field] : kPasses)
+    if (pass == name) {
+      r.*field = ms;
+      return true;
+    }
+  return false;
+}
+
+bool isScreenPass(const std::string& pass) {
+  return pass == "sky" || pass == "ssao" || pass == "ssao-blur" || pass == "composite" ||
+         pass == "outline";
+}
+
 void fillFromLoader(FrameRecord& r, const LoaderCounters& c) {
   r.residentBytes = c.residentBytes;
   r.capBytes = c.capBytes;
@@ -116,6 +138,13 @@ OrderedJson frameObject(const FrameRecord& f) {
           {"uploadMs", finiteOrZero(f.uploadMs)},
           {"drawMs", finiteOrZero(f.drawMs)},
           {"queryGpuMs", finiteOrZero(f.queryGpuMs)},
+          {"shadowMs", finiteOrZero(f.shadowMs)},
+          {"geometryMs", finiteOrZero(f.geometryMs)},
+          {"skyMs", finiteOrZero(f.skyMs)},
+          {"ssaoMs", finiteOrZero(f.ssaoMs)},
+          {"ssaoBlurMs", finiteOrZero(f.ssaoBlurMs)},
+          {"compositeMs", finiteOrZero(f.compositeMs)},
+          {"outlineMs", finiteOrZero(f.outlineMs)},
           {"triangles", f.triangles},
           {"upToggles", f.upToggles},
           {"downToggles", f.downToggles},

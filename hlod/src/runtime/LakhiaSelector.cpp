@@ -273,7 +273,7 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
     double childCost = 0.0;
     bool resident = true;
     for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c) {
-      if (!visit(c)) continue;
+      if (!visit(c) || fullyFogged(c)) continue;
       children.push_back(c);
       childCost += effectiveCost(c);
       resident = resident && residency.isResident(c);

@@ -20,11 +20,21 @@ Loader::Loader(const NodeSource& source, LoaderParams params)
   for (std::uint32_t r : skeleton_.roots) {
     if (r < isRoot_.size() && !isRoot_[r]) {
       isRoot_[r] = 1;
-      rootBytes_ += skeleton_.nodes[r].memoryBytes;
+      rootBytes_ += memoryOf(r);
     }
   }
   if (params_.chunkBytes == 0) params_.chunkBytes = 64 * 1024;
   counters_.capBytes = params_.capBytes;
+}
+
+std::uint64_t Loader::readSizeOf(std::uint32_t node) const {
+  const NodeInfo& n = skeleton_.nodes[node];
+  return params_.textures ? n.payloadSize : n.payloadSize - n.textureSize;
+}
+
+std::uint64_t Loader::memoryOf(std::uint32_t node) const {
+  const NodeInfo& n = skeleton_.nodes[node];
+  return params_.textures ? n.memoryBytes : n.memoryBytes - n.textureBytes;
 }
 
 template <class Loadable>
@@ -65,7 +75,7 @@ Status Loader::loadRoots() {
   if (params_.ioMbps > 0.0) {
     std::uint64_t bytes = 0;
     for (std::uint32_t r : skeleton_.roots)
-      if (r < skeleton_.nodes.size()) bytes += skeleton_.nodes[r].payloadSize;
+      if (r < skeleton_.nodes.size()) bytes += readSizeOf(r);
     const double seconds = static_cast<double>(bytes) * 8.0 / (params_.ioMbps * 1e6) +
                            params_.ioLatencyMs * 1e-3 * static_cast<double>(skeleton_.roots.size());
     if (seconds > kMaxRootLoadSeconds) {
@@ -95,15 +105,15 @@ Status Loader::loadRoots() {
       std::lock_guard lock(mutex_);
       issueAheadLocked(r, [&](std::uint32_t n) { return isRoot_[n] && !resident_[n]; });
     }
-    const std::uint64_t size = skeleton_.nodes[r].payloadSize;
-    if (params_.cache && !params_.cache->reserve(skeleton_.nodes[r].memoryBytes))
+    const std::uint64_t size = readSizeOf(r);
+    if (params_.cache && !params_.cache->reserve(memoryOf(r)))
       return makeError("hlod_0 node " + std::to_string(r) +
                        " does not fit the server's node memory cap");
     std::vector<std::byte> bytes;
     try {
       bytes.resize(size);
     } catch (const std::bad_alloc&) {
-      if (params_.cache) params_.cache->release(skeleton_.nodes[r].memoryBytes);
+      if (params_.cache) params_.cache->release(memoryOf(r));
       return makeError("hlod_0 node " + std::to_string(r) + ": cannot allocate " +
                        std::to_string(size) + " bytes");
     }
@@ -113,14 +123,14 @@ Status Loader::loadRoots() {
       throttle(r, off, len);
       Status s = source_.readPayloadChunk(r, off, std::span<std::byte>(bytes.data() + off, len));
       if (!s) {
-        if (params_.cache) params_.cache->release(skeleton_.nodes[r].memoryBytes);
+        if (params_.cache) params_.cache->release(memoryOf(r));
         return makeError("hlod_0 node " + std::to_string(r) + ": " + s.message());
       }
       if (stopRequested()) return makeError("stopped while loading hlod_0");
     }
     Result<LocalMesh> mesh = decodeGuarded(r, bytes);
     if (!mesh) {
-      if (params_.cache) params_.cache->release(skeleton_.nodes[r].memoryBytes);
+      if (params_.cache) params_.cache->release(memoryOf(r));
       return makeError("hlod_0 node " + std::to_string(r) + ": " + mesh.message());
     }
     std::lock_guard lock(mutex_);
@@ -209,8 +219,8 @@ bool Loader::hasResidentChildLocked(std::uint32_t node) const {
 void Loader::dropPartialLocked(std::uint32_t node) {
   auto it = partials_.find(node);
   if (it == partials_.end()) return;
-  counters_.inFlightBytes -= skeleton_.nodes[node].memoryBytes;
-  if (it->second->cacheReserved) params_.cache->release(skeleton_.nodes[node].memoryBytes);
+  counters_.inFlightBytes -= memoryOf(node);
+  if (it->second->cacheReserved) params_.cache->release(memoryOf(node));
   partials_.erase(it);
   if (current_ == node) current_ = kNoNode;
 }
@@ -219,7 +229,7 @@ void Loader::unloadLocked(std::uint32_t node) {
   const NodeInfo& n = skeleton_.nodes[node];
   resident_[node].reset();
   residentFlag_[node].store(false);
-  counters_.residentBytes -= n.memoryBytes;
+  counters_.residentBytes -= memoryOf(node);
   counters_.residentCost -= n.cost;
   --counters_.residentNodes;
   ++counters_.unloads;
@@ -232,7 +242,7 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
   const bool capOn = params_.capBytes > 0;
   const bool costOn = params_.c_memory > 0.0;
   // Once decoded the node holds memoryBytes (more than its compressed read buffer).
-  std::uint64_t bytes = counters_.residentBytes + counters_.inFlightBytes + info.memoryBytes;
+  std::uint64_t bytes = counters_.residentBytes + counters_.inFlightBytes + memoryOf(node);
   double cost = counters_.residentCost + info.cost;
   auto fits = [&] {
     return (!capOn || bytes <= params_.capBytes) &&
@@ -326,7 +336,7 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
     heap.pop_back();
     taken.push_back(v);
     const NodeInfo& vn = skeleton_.nodes[v.node];
-    bytes -= vn.memoryBytes;
+    bytes -= memoryOf(v.node);
     if (!v.resident) continue;
     cost -= vn.cost;
     const std::uint32_t q = vn.parent;
@@ -357,7 +367,7 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
 bool Loader::neverFits(std::uint32_t node) const {
   // hlod_0 is never unloaded: a node larger than what it leaves of the cap can never load.
   const std::uint64_t cap = params_.capBytes;
-  return cap > 0 && (rootBytes_ >= cap || skeleton_.nodes[node].memoryBytes > cap - rootBytes_);
+  return cap > 0 && (rootBytes_ >= cap || memoryOf(node) > cap - rootBytes_);
 }
 
 std::uint32_t Loader::chooseLocked() {
@@ -471,7 +481,7 @@ bool Loader::step() {
       }
     }
     current_ = node;
-    size = skeleton_.nodes[node].payloadSize;
+    size = readSizeOf(node);
     if (it == partials_.end()) {
       auto fresh = std::make_unique<Partial>();
       // The error boundary of the loading thread: a node too large to allocate (a forged
@@ -484,7 +494,7 @@ bool Loader::step() {
         return true;
       }
       if (params_.cache) {
-        if (!params_.cache->reserve(skeleton_.nodes[node].memoryBytes)) {
+        if (!params_.cache->reserve(memoryOf(node))) {
           // The sessions of this store hold the server's cap: wait for them to let go.
           current_ = kNoNode;
           idle_ = true;
@@ -495,7 +505,7 @@ bool Loader::step() {
       }
       it = partials_.emplace(node, std::move(fresh)).first;
       // Reserve what the node will hold decoded, so that finishing it cannot pass the cap.
-      counters_.inFlightBytes += skeleton_.nodes[node].memoryBytes;
+      counters_.inFlightBytes += memoryOf(node);
       counters_.peakBytes =
           std::max(counters_.peakBytes, counters_.residentBytes + counters_.inFlightBytes);
       ++counters_.loadsStarted;
@@ -543,8 +553,8 @@ Result<LocalMesh> Loader::decodeGuarded(std::uint32_t node, std::span<const std:
   try {
     return source_.decodePayload(node, bytes);
   } catch (const std::bad_alloc&) {
-    return makeError("cannot allocate the decoded payload (" +
-                     std::to_string(skeleton_.nodes[node].memoryBytes) + " bytes)");
+    return makeError("cannot allocate the decoded payload (" + std::to_string(memoryOf(node)) +
+                     " bytes)");
   }
 }
 
@@ -574,7 +584,7 @@ void Loader::finishLocked(std::uint32_t node, Result<LocalMesh> mesh) {
     return;
   }
   // (hlod_0 nodes from loadRoots have no partial: they reserved in the cache themselves.)
-  const std::uint64_t bytes = skeleton_.nodes[node].memoryBytes;
+  const std::uint64_t bytes = memoryOf(node);
   adoptLocked(node, params_.cache ? params_.cache->insert(NodeCache::key(params_.cacheStore, node),
                                                           std::move(mesh).value(), bytes)
                                   : std::make_shared<const LocalMesh>(std::move(mesh).value()));
@@ -585,7 +595,7 @@ void Loader::adoptLocked(std::uint32_t node, std::shared_ptr<const LocalMesh> sh
   const NodeInfo& n = skeleton_.nodes[node];
   resident_[node] = shared;
   residentFlag_[node].store(true);
-  counters_.residentBytes += n.memoryBytes;
+  counters_.residentBytes += memoryOf(node);
   lastFinished_ = node;
   counters_.residentCost += n.cost;
   ++counters_.residentNodes;

@@ -82,8 +82,15 @@ Selection Selector::beginFrame(const View& view) {
   s.spentMs = std::isfinite(view.spentMs) ? std::max(0.0, view.spentMs) : 0.0;
   s.drawBudgetMs = std::isfinite(s.targetMs) ? std::max(0.0, s.targetMs - s.spentMs) : 0.0;
   s.vTime = feedback_.vTime();
+  fogEye_ = view.camera.position;
+  fogCullDistance_ = view.fogCullDistance > 0.0 ? view.fogCullDistance : 0.0;
   s.nodesDrawnPerLevel.assign(skeleton_.nodes.empty() ? 0 : maxLevel_ + 1, 0);
   return s;
+}
+
+bool Selector::fullyFogged(std::uint32_t node) const {
+  return std::isfinite(fogCullDistance_) &&
+         distanceToBox(fogEye_, skeleton_.nodes[node].bounds) > fogCullDistance_;
 }
 
 void Selector::markRefined(std::uint32_t node, Selection& s) {

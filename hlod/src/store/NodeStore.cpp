@@ -74,15 +74,25 @@ Result<LocalMesh> NodeStore::decodePayload(std::uint32_t node,
                                            std::span<const std::byte> bytes) const {
   if (node >= skeleton_.nodes.size()) return makeError("no node " + std::to_string(node));
   const NodeInfo& n = skeleton_.nodes[node];
-  if (bytes.size() != n.payloadSize)
+  // The whole payload, or its mesh section alone (a load for a scene without textures).
+  const std::uint64_t meshSize = n.payloadSize - n.textureSize;
+  const bool pixels = bytes.size() == n.payloadSize;
+  if (!pixels && bytes.size() != meshSize)
     return makeError("payload of node " + std::to_string(node) + " has the wrong size");
-  // The checksum covers the stored bytes: corruption is caught before decompression.
-  if (crc32(bytes) != n.payloadChecksum)
+  // The checksums cover the stored bytes: corruption is caught before decompression.
+  const auto meshBytes = bytes.first(meshSize);
+  if (crc32(meshBytes) != n.payloadChecksum ||
+      (pixels && n.textureSize > 0 && crc32(bytes.subspan(meshSize)) != n.textureChecksum))
     return makeError("node " + std::to_string(node) +
                      ": payload checksum mismatch (corrupt store)");
-  auto raw = inflatePayload(bytes, n.memoryBytes);
+  auto raw = inflatePayload(meshBytes, n.memoryBytes - n.textureBytes);
   if (!raw) return makeError("node " + std::to_string(node) + ": " + raw.message());
-  auto mesh = decodePayloadBytes(*raw, n.centre);
+  if (pixels && n.textureSize > 0) {
+    auto texture = inflatePayload(bytes.subspan(meshSize), n.textureBytes);
+    if (!texture) return makeError("node " + std::to_string(node) + ": " + texture.message());
+    raw->insert(raw->end(), texture->begin(), texture->end());
+  }
+  auto mesh = decodePayloadBytes(*raw, n.centre, pixels);
   if (!mesh) return makeError("node " + std::to_string(node) + ": " + mesh.message());
   return mesh;
 }
@@ -164,14 +174,27 @@ NodeStoreWriter::~NodeStoreWriter() {
 
 Status NodeStoreWriter::appendPayload(const LocalMesh& mesh, NodeInfo& node) {
   const std::vector<std::byte> raw = encodePayload(mesh);
-  const std::vector<std::byte> bytes = compressPayload(raw);
-  if (std::fwrite(bytes.data(), 1, bytes.size(), payload_) != bytes.size())
-    return makeError("cannot write payload.bin (disk full?)");
+  // The pixels end the payload (see the format): they become a section of their own, so that
+  // a scene without textures reads, inflates and keeps none of them.
+  const bool textured =
+      mesh.texture && !mesh.texture->empty() &&
+      mesh.texture->pixels.size() == std::size_t(mesh.texture->width) * mesh.texture->height * 4;
+  const std::size_t pixelBytes = textured ? mesh.texture->pixels.size() : 0;
+  const std::span<const std::byte> all(raw);
+  const std::vector<std::byte> meshSection = compressPayload(all.first(raw.size() - pixelBytes));
+  const std::vector<std::byte> textureSection =
+      pixelBytes ? compressPayload(all.last(pixelBytes)) : std::vector<std::byte>{};
+  for (const auto* section : {&meshSection, &textureSection})
+    if (std::fwrite(section->data(), 1, section->size(), payload_) != section->size())
+      return makeError("cannot write payload.bin (disk full?)");
   node.payloadOffset = payloadBytes_;
-  node.payloadSize = bytes.size();
-  node.payloadChecksum = crc32(bytes);
+  node.payloadSize = meshSection.size() + textureSection.size();
+  node.payloadChecksum = crc32(meshSection);
   node.memoryBytes = raw.size();
-  payloadBytes_ += bytes.size();
+  node.textureSize = textureSection.size();
+  node.textureChecksum = pixelBytes ? crc32(textureSection) : 0;
+  node.textureBytes = pixelBytes;
+  payloadBytes_ += node.payloadSize;
   return Ok{};
 }
 

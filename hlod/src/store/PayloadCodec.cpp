@@ -94,7 +94,8 @@ std::vector<std::byte> encodePayload(const LocalMesh& mesh) {
   return std::move(w.bytes);
 }
 
-Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, const glm::dvec3& centre) {
+Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, const glm::dvec3& centre,
+                                     bool pixels) {
   store::ByteReader r(bytes);
   std::uint32_t magic = 0, version = 0, vc = 0, ic = 0, flags = 0, tw = 0, th = 0;
   glm::vec4 baseColor;
@@ -110,7 +111,7 @@ Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, const glm
     return makeError("payload header has impossible counts");
   const bool hasUv = flags & kFlagTexCoords;
   const std::uint64_t expected = 7 * 4 + 16 + std::uint64_t(vc) * (hasUv ? 32 : 24) +
-                                 std::uint64_t(ic) * 4 + std::uint64_t(tw) * th * 4;
+                                 std::uint64_t(ic) * 4 + (pixels ? std::uint64_t(tw) * th * 4 : 0);
   if (expected != bytes.size())
     return makeError("payload size " + std::to_string(bytes.size()) +
                      " does not match its counts (" + std::to_string(expected) + ")");
@@ -127,7 +128,7 @@ Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, const glm
       (hasUv && !r.getBytes(m.texCoords.data(), std::uint64_t(vc) * 8)) ||
       !r.getBytes(m.indices.data(), std::uint64_t(ic) * 4))
     return makeError("payload truncated");
-  if (tw > 0) {
+  if (tw > 0 && pixels) {
     auto img = std::make_shared<Image>();
     img->width = int(tw);
     img->height = int(th);

@@ -32,6 +32,9 @@ void putNode(store::ByteWriter& w, const NodeInfo& n) {
   w.put(n.payloadSize);
   w.put(n.payloadChecksum);
   w.put(n.memoryBytes);
+  w.put(n.textureSize);
+  w.put(n.textureChecksum);
+  w.put(n.textureBytes);
 }
 
 bool getNode(store::ByteReader& r, NodeInfo& n) {
@@ -39,10 +42,12 @@ bool getNode(store::ByteReader& r, NodeInfo& n) {
          r.get(n.block) && r.get(n.bounds.min) && r.get(n.bounds.max) && r.get(n.centre) &&
          r.get(n.numTri) && r.get(n.numTexTri) && r.get(n.cost) && r.get(n.staticBenefit) &&
          r.get(n.avgNormal) && r.get(n.geometricError) && r.get(n.payloadOffset) &&
-         r.get(n.payloadSize) && r.get(n.payloadChecksum) && r.get(n.memoryBytes);
+         r.get(n.payloadSize) && r.get(n.payloadChecksum) && r.get(n.memoryBytes) &&
+         r.get(n.textureSize) && r.get(n.textureChecksum) && r.get(n.textureBytes);
 }
 
-constexpr std::size_t kNodeRecordSize = 5 * 4 + 9 * 8 + 2 * 4 + 2 * 8 + 3 * 4 + 8 + 2 * 8 + 4 + 8;
+constexpr std::size_t kNodeRecordSize =
+    5 * 4 + 9 * 8 + 2 * 4 + 2 * 8 + 3 * 4 + 8 + 2 * 8 + 4 + 8 + 8 + 4 + 8;
 
 bool finite3(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -155,6 +160,13 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
     // DEFLATE expands at most 1032:1; a larger claim would only make a load allocate wildly.
     if (n.memoryBytes > 1032 * n.payloadSize + 1024)
       return bad("node " + std::to_string(i) + " claims an impossible decoded size");
+    // The texture section is the payload's tail, decoding to the tail of the decoded bytes.
+    if ((n.textureSize > 0 && n.textureSize >= n.payloadSize) ||
+        (n.textureBytes > 0 && n.textureBytes >= n.memoryBytes) ||
+        (n.textureSize == 0) != (n.textureBytes == 0) ||
+        n.textureBytes > 1032 * n.textureSize + 1024 ||
+        n.memoryBytes - n.textureBytes > 1032 * (n.payloadSize - n.textureSize) + 1024)
+      return bad("node " + std::to_string(i) + " has an impossible texture section");
     if (!finite3(n.centre) ||
         (!n.bounds.empty() && (!finite3(n.bounds.min) || !finite3(n.bounds.max))) ||
         !std::isfinite(n.cost) || !std::isfinite(n.staticBenefit) ||

@@ -11,6 +11,11 @@ struct FrameView {
   glm::dmat4 rotation{1.0};    // world -> view rotation (the look-at matrix without translation)
   glm::dmat4 projection{1.0};  // reversed-Z (depth 1 at near, 0 at far), clip depth in [0, 1]
   glm::dvec3 viewDir{0.0, 0.0, -1.0};
+  double farDistance = 1e5;  // the far plane: fog's derived density uses it
+  // A sphere holding what is drawn (world): the shadow map is fitted to it. Radius 0: the
+  // renderer fits one around the meshes' centres.
+  glm::dvec3 sceneCentre{0.0};
+  double sceneRadius = 0.0;
 };
 
 // Reversed-Z perspective for glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) and depth test

@@ -77,7 +77,14 @@ namespace renderer {
   X(DELETEQUERIES, DeleteQueries)                     \
   X(BEGINQUERY, BeginQuery)                           \
   X(ENDQUERY, EndQuery)                               \
-  X(GETQUERYOBJECTUI64V, GetQueryObjectui64v)
+  X(GETQUERYOBJECTUI64V, GetQueryObjectui64v)         \
+  X(FRAMEBUFFERTEXTURE2D, FramebufferTexture2D)       \
+  X(DRAWARRAYS, DrawArrays)                           \
+  X(DRAWBUFFERS, DrawBuffers)                         \
+  X(READBUFFER, ReadBuffer)                           \
+  X(UNIFORM2FV, Uniform2fv)                           \
+  X(BLENDFUNC, BlendFunc)                             \
+  X(COLORMASK, ColorMask)
 
 struct GlFunctions {
 #define HLODR_GL_MEMBER(suffix, name) PFNGL##suffix##PROC name = nullptr;

@@ -12,29 +12,30 @@
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
 #include "hlod/metrics/ImageMetrics.h"
+#include "hlod/SceneFile.h"
 #include "renderer/FrameView.h"
 #include "renderer/GlContext.h"
 #include "renderer/GpuMesh.h"
 #include "renderer/ShaderProgram.h"
+#include "renderer/ShaderVariant.h"
 
 namespace renderer {
 
-// The effects a scene declares. Only these are compiled and executed.
-struct Effects {
-  bool textures = true;     // sample base-colour textures where a mesh has one
-  bool lambert = true;      // directional sun + hemisphere ambient; false: unlit
-  bool fog = false;         // exponential distance fog towards the background colour
-  double fogDensity = 0.0;  // per world unit; 0 picks one from the view distance
-  glm::vec3 background{0.70f, 0.80f, 0.90f};
-};
+// The effects a scene declares (hlod/SceneFile.h). Only these are compiled and executed.
+using Effects = hlod::SceneEffects;
 
 struct RenderOptions {
   int width = 1280;
   int height = 720;
-  Effects effects;
-  glm::dvec3 up{0.0, 0.0, 1.0};                // world up (hemisphere light)
-  glm::dvec3 sunDirection{0.45, -0.35, 0.82};  // towards the sun, world space
+  Effects effects = hlod::defaultEffects();
+  glm::dvec3 up{0.0, 0.0, 1.0};  // world up (hemisphere light, sky)
 };
+
+// The passes a frame may run, in their order. A Renderer runs only those its effects declare.
+enum class Pass { Shadow, Geometry, Sky, Ssao, SsaoBlur, Composite, Outline };
+const char* passName(Pass pass);
+// The passes the effects call for, in frame order (geometry always).
+std::vector<Pass> passesFor(const Effects& effects);
 
 struct PassTiming {
   std::string name;
@@ -47,6 +48,17 @@ struct FrameTiming {
   std::vector<PassTiming> passes;
   std::uint64_t triangles = 0;
   std::uint64_t drawCalls = 0;
+};
+
+// The GL objects a Renderer owns (not the meshes'): what an undeclared effect must not add.
+struct ResourceCounts {
+  int framebuffers = 0;
+  int renderbuffers = 0;
+  int textures = 0;
+  int programs = 0;
+  int queries = 0;
+  int vertexArrays = 0;
+  bool operator==(const ResourceCounts&) const = default;
 };
 
 class Renderer {
@@ -70,18 +82,46 @@ class Renderer {
 
   const GlFunctions& gl() const { return context_.gl(); }
   const RenderOptions& options() const { return options_; }
+  // The passes each frame runs, in order.
+  const std::vector<Pass>& passes() const { return passes_; }
+  ResourceCounts resources() const;
+  // Programs compiled so far: each variant once, however many frames and meshes.
+  int programCompiles() const { return compiles_; }
 
  private:
   Renderer(GlContext& context, const RenderOptions& options)
-      : context_(context), options_(options) {}
+      : context_(context), options_(options), passes_(passesFor(options.effects)) {}
   hlod::Status init();
-  const ShaderProgram& program(bool textured);
+  hlod::Status initShadows();
+  hlod::Status initPostTargets();
+  // The cached program of a variant, compiled on first use; nullptr if it failed to build.
+  const ShaderProgram* program(const VariantKey& key);
+  bool has(Pass pass) const;
+
+  void runPass(Pass pass, const FrameView& view, std::span<const GpuMesh* const> meshes,
+               FrameTiming& timing);
+  void shadowPass(std::span<const GpuMesh* const> meshes);
+  void geometryPass(const FrameView& view, std::span<const GpuMesh* const> meshes,
+                    FrameTiming& timing);
+  void skyPass(const FrameView& view);
+  void fullscreenPass(ProgramKind kind, GLuint target, GLuint input, const FrameView& view);
 
   GlContext& context_;
   RenderOptions options_;
-  GlObject framebuffer_, colour_, depth_;
-  std::map<bool, ShaderProgram> programs_;  // by "textured"
-  GlObject geometryQuery_;
+  std::vector<Pass> passes_;
+  int compiles_ = 0;
+  // Always: the frame's colour and depth (depth a texture when a post pass reads it).
+  GlObject framebuffer_, colour_, depth_, depthTexture_;
+  std::map<VariantKey, ShaderProgram> programs_;
+  std::vector<GlObject> queries_;  // one GL_TIME_ELAPSED query per pass
+  // Declared only: the shadow map; SSAO and blur targets; the colour-only target the
+  // fullscreen post passes blend into (no depth attached: the depth texture is their input).
+  GlObject shadowFramebuffer_, shadowTexture_;
+  GlObject aoFramebuffer_, aoTexture_, blurFramebuffer_, blurTexture_;
+  GlObject postFramebuffer_, fullscreenVao_;
+  // This frame's sun matrix (world relative to the scene sphere's centre -> sun clip space).
+  glm::dmat4 shadowViewProjection_{1.0};
+  glm::dvec3 shadowCentre_{0.0};
 };
 
 // Writes an image; the format follows the extension (.png, .jpg/.jpeg, .exr, .tif, ...).

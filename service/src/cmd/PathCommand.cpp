@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cmd/Commands.h"
+#include "cmd/SceneArgs.h"
 #include "hlod/CameraPath.h"
 #include "hlod/NodeStore.h"
 #include "service/Args.h"
@@ -122,10 +123,16 @@ hlod::Result<Args> parseWithPathRun(const Argv& argv, std::set<std::string> flag
 }
 
 int runRenderPath(const Argv& argv) {
-  auto args =
-      parseWithPathRun(argv, {"quiet", "unlit", "no-textures", "fog"}, {"output", "path", "size"});
+  auto args = parseWithPathRun(argv, {"quiet", "unlit", "no-textures", "fog"},
+                               {"output", "path", "size", "scene"});
   if (!args) return usageError("render", args.message());
-  if (args->positionals().size() != 1 || !args->has("output") || !args->has("path")) {
+  auto declared = sceneFromArgs(*args, {0.0, 0.0, 1.0});
+  if (!declared) return usageError("render", declared.message());
+  std::string store = args->positionals().empty() ? "" : args->positionals()[0];
+  if (store.empty() && declared->fromFile && !declared->scene.store.empty())
+    store = (declared->file.parent_path() / declared->scene.store).string();
+  if ((args->positionals().size() != 1 && store.empty()) || !args->has("output") ||
+      !args->has("path")) {
     std::fprintf(stderr,
                  "hlodr render: a node store needs --path PATH.json (make one with `hlodr path`) "
                  "and -o OUT (a folder or a .mp4)\n");
@@ -161,9 +168,7 @@ int runRenderPath(const Argv& argv) {
     return usageError("render", "--selector must be lakhia, sse, fs or full");
   auto mode = parseMode(args->get("mode", "realtime"));
   if (!mode) return usageError("render", "--" + mode.message());
-  so.effects.lambert = !args->has("unlit");
-  so.effects.textures = !args->has("no-textures");
-  so.effects.fog = args->has("fog");
+  so.effects = declared->scene.effects;
   auto backend = renderer::backendFromEnvironment();
   if (!backend) return usageError("render", backend.message());
 
@@ -173,7 +178,7 @@ int runRenderPath(const Argv& argv) {
                  path.message().c_str());
     return 1;
   }
-  auto session = Session::open(args->positionals()[0], so, *backend);
+  auto session = Session::open(store, so, *backend);
   if (!session) {
     std::fprintf(stderr, "hlodr render: %s\n", session.message().c_str());
     return 1;

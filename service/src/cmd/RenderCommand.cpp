@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 #include "cmd/Commands.h"
+#include "cmd/SceneArgs.h"
 #include "renderer/GlContext.h"
 #include "renderer/Renderer.h"
 #include "service/Args.h"
@@ -15,7 +17,7 @@
 namespace service::cmd {
 
 const char* const kRenderUsage =
-    "usage: hlodr render MODEL -o IMAGE [options]\n"
+    "usage: hlodr render [MODEL] -o IMAGE [options]\n"
     "\n"
     "Renders one frame of MODEL (a mesh file: .obj .ply .off .stl .gltf .glb, or a city folder\n"
     "written by `hlodr city`) at full detail, and prints the GPU time, the CPU (wall) time and\n"
@@ -28,9 +30,11 @@ const char* const kRenderUsage =
     "  --up x|y|z              world up axis (default: z for cities, y for mesh files)\n"
     "  --size WxH              frame size in pixels, up to 8192x8192 (default 1280x720)\n"
     "  --fov DEG               vertical field of view in degrees (default 50)\n"
-    "  --unlit                 no lighting (declared effects: lambert is on by default)\n"
+    "  --scene FILE            a scene file (docs/scene.md): the effects, background and\n"
+    "                          camera; its store stands in for MODEL when MODEL is omitted\n"
+    "  --unlit                 no lighting (without --scene: textures, lambert and a sun)\n"
     "  --no-textures           ignore textures\n"
-    "  --fog                   distance fog\n"
+    "  --fog                   distance fog (density from the view distance)\n"
     "  --quiet                 no progress output\n"
     "\n"
     "\n"
@@ -63,7 +67,7 @@ const char* const kRenderUsage =
     "  --params N=V,...        selector constants by their names in the code, e.g.\n"
     "                          c_aim=0.95,c_vis=4,feedbackGain=0.2,ssePixels=16 (defaults and\n"
     "                          meanings: hlod/include/hlod/Selector.h; a wrong name lists them)\n"
-    "  --quiet, --unlit, --no-textures, --fog   as above\n"
+    "  --scene, --quiet, --unlit, --no-textures, --fog   as above\n"
     "\n"
     "environment: HLODR_GL_BACKEND=egl|osmesa forces a GL backend (default: EGL, then OSMesa).\n";
 
@@ -104,12 +108,23 @@ hlod::Result<std::array<double, 6>> parseCamera(const std::string& s) {
 
 int runRender(const Argv& argv) {
   auto args = parseWithPathRun(argv, {"unlit", "no-textures", "fog", "quiet"},
-                               {"output", "camera", "up", "size", "fov", "path"});
+                               {"output", "camera", "up", "size", "fov", "path", "scene"});
   if (!args) {
     std::fprintf(stderr, "hlodr render: %s\n", args.message().c_str());
     return 2;
   }
-  if (args->positionals().size() != 1 || !args->has("output")) {
+  // No MODEL: the scene file's store, relative to the scene file.
+  std::string model = args->positionals().empty() ? "" : args->positionals()[0];
+  if (model.empty() && args->has("scene") && args->has("output")) {
+    auto scene = hlod::readSceneFile(*args->get("scene"));
+    if (!scene) {
+      std::fprintf(stderr, "hlodr render: %s\n", scene.message().c_str());
+      return 2;
+    }
+    if (!scene->store.empty())
+      model = (std::filesystem::path(*args->get("scene")).parent_path() / scene->store).string();
+  }
+  if ((args->positionals().size() != 1 && model.empty()) || !args->has("output")) {
     const std::size_t n = args->positionals().size();
     const std::string why = n == 0  ? "no MODEL given"
                             : n > 1 ? "give one MODEL, not " + std::to_string(n) + " ('" +
@@ -119,7 +134,7 @@ int runRender(const Argv& argv) {
     return 2;
   }
   // A node store, or any --path: a camera path run (PathCommand.cpp checks the rest).
-  if (args->has("path") || isNodeStore(args->positionals()[0])) return runRenderPath(argv);
+  if (args->has("path") || isNodeStore(model)) return runRenderPath(argv);
   for (const auto* names : {&kPathRunOptions, &kPathRunFlags}) {
     for (const std::string& o : *names) {
       if (!args->has(o)) continue;
@@ -144,9 +159,6 @@ int runRender(const Argv& argv) {
     std::fprintf(stderr, "hlodr render: %s\n", cameraValues.message().c_str());
     return 2;
   }
-  options.effects.lambert = !args->has("unlit");
-  options.effects.textures = !args->has("no-textures");
-  options.effects.fog = args->has("fog");
   const bool quiet = args->has("quiet");
 
   auto backend = renderer::backendFromEnvironment();
@@ -155,7 +167,7 @@ int runRender(const Argv& argv) {
     return 2;
   }
 
-  auto scene = loadScene(args->positionals()[0], quiet);
+  auto scene = loadScene(model, quiet);
   if (!scene) {
     std::fprintf(stderr, "hlodr render: %s\n", scene.message().c_str());
     return 1;
@@ -173,7 +185,12 @@ int runRender(const Argv& argv) {
     }
   }
   options.up = scene->up;
-  if (scene->up.z < 0.5) options.sunDirection = {0.45, 0.82, 0.35};
+  auto declared = sceneFromArgs(*args, scene->up);
+  if (!declared) {
+    std::fprintf(stderr, "hlodr render: %s\n", declared.message().c_str());
+    return 2;
+  }
+  options.effects = declared->scene.effects;
 
   auto context = renderer::createContext(*backend);
   if (!context) {
@@ -210,13 +227,20 @@ int runRender(const Argv& argv) {
     camera.target = {v[3], v[4], v[5]};
     camera.up = scene->up;
     camera.fovY = *fov;
+  } else if (const auto& sc = declared->scene.camera) {
+    camera.position = sc->position;
+    camera.target = sc->target;
+    camera.up = sc->up.value_or(scene->up);
+    camera.fovY = args->has("fov") ? *fov : sc->fov;
   } else {
     camera = defaultCamera(bounds, scene->up, *fov, aspect);
   }
   double zNear = 0.1, zFar = 1e5;
   clipPlanes(camera, bounds, zNear, zFar);
-  const auto view = renderer::makeFrameView(camera.position, camera.target, camera.up, camera.fovY,
-                                            aspect, zNear, zFar);
+  auto view = renderer::makeFrameView(camera.position, camera.target, camera.up, camera.fovY,
+                                      aspect, zNear, zFar);
+  view.sceneCentre = bounds.centre();
+  view.sceneRadius = std::max(glm::length(bounds.size()) * 0.5, 1e-3);
 
   (*r)->drawFrame(view, drawList);  // warm-up: first-use costs (shader JIT) are not the frame
   const auto timing = (*r)->drawFrame(view, drawList);

@@ -8,7 +8,7 @@ std::string RenderSettings::key() const {
   char buf[160];
   std::snprintf(buf, sizeof buf, "%dx%d/%g/%s/%g/%llu", width, height, budgetMs, selector.c_str(),
                 ssePx, static_cast<unsigned long long>(memoryCapBytes));
-  return buf;
+  return buf + ("/" + effectsKey);
 }
 
 nlohmann::json RenderSettings::json() const {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hlod/FrameStats.h"
+#include "hlod/SceneFile.h"
 #include "renderer/ImageEncoder.h"
 #include "server/JsonInput.h"
 
@@ -50,6 +51,8 @@ struct RenderSettings {
   std::string selector = "lakhia";
   double ssePx = 16.0;
   std::uint64_t memoryCapBytes = 0;
+  hlod::SceneEffects effects = hlod::defaultEffects();  // from the request's `scene`
+  std::string effectsKey;   // SceneChoice::key: equal effects, equal key
   std::string key() const;  // equal for settings that can share a warm session
   nlohmann::json json() const;
 };

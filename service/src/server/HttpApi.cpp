@@ -6,6 +6,8 @@
 #include <fstream>
 #include <utility>
 
+#include "server/SceneChoice.h"
+
 namespace service::server {
 
 std::size_t ApiContext::queued() const {
@@ -183,17 +185,24 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     fields.erase("memoryMb");
     auto in = JsonInput::parse(req.body, fields);
     if (!in) return sendError(res, badRequest(in.message()));
-    auto id = in->string("scene", 64);
-    if (!id) return sendError(res, badRequest(id.message()));
-    auto scene = api.scenes.find(*id);
-    if (!scene) return sendError(res, notFound("no scene '" + *id + "'"));
+    auto choice = readSceneChoice(in->json().value("scene", nlohmann::json()), api.scenes);
+    if (!choice) return sendError(res, choice.error());
+    auto scene = choice->store;
     auto settings = readRenderSettings(*in, api.maxSize, false);
     if (!settings) return sendError(res, settings.error());
+    settings->effects = choice->effects;
+    settings->effectsKey = choice->key;
     auto image = readImageRequest(*in);
     if (!image) return sendError(res, image.error());
     auto mode = in->choice("mode", "settled", {"settled", "realtime"});
     if (!mode) return sendError(res, badRequest(mode.message()));
     hlod::Camera camera = scene->defaultCamera(double(settings->width) / settings->height);
+    if (const auto& c = choice->camera) {
+      camera.position = c->position;
+      camera.target = c->target;
+      camera.up = c->up.value_or(camera.up);
+      camera.fovY = c->fov;
+    }
     if (in->has("camera")) {
       auto c = cameraFrom(in->json()["camera"], camera);
       if (!c) return sendError(res, badRequest(c.message()));
@@ -214,12 +223,13 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     fields.insert("scene");
     auto in = JsonInput::parse(req.body, fields);
     if (!in) return sendError(res, badRequest(in.message()));
-    auto id = in->string("scene", 64);
-    if (!id) return sendError(res, badRequest(id.message()));
-    auto scene = api.scenes.find(*id);
-    if (!scene) return sendError(res, notFound("no scene '" + *id + "'"));
+    auto choice = readSceneChoice(in->json().value("scene", nlohmann::json()), api.scenes);
+    if (!choice) return sendError(res, choice.error());
+    auto scene = choice->store;
     auto settings = readRenderSettings(*in, api.maxSize, true);
     if (!settings) return sendError(res, settings.error());
+    settings->effects = choice->effects;
+    settings->effectsKey = choice->key;
     auto slot = admit(api, res);
     if (!slot) return;
     auto made = api.sessions.create(scene, *settings);
@@ -262,12 +272,13 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     fields.insert({"scene", "path", "fps", "mode", "video", "frames", "prefetch"});
     auto in = JsonInput::parse(req.body, fields);
     if (!in) return sendError(res, badRequest(in.message()));
-    auto id = in->string("scene", 64);
-    if (!id) return sendError(res, badRequest(id.message()));
-    auto scene = api.scenes.find(*id);
-    if (!scene) return sendError(res, notFound("no scene '" + *id + "'"));
+    auto choice = readSceneChoice(in->json().value("scene", nlohmann::json()), api.scenes);
+    if (!choice) return sendError(res, choice.error());
+    auto scene = choice->store;
     auto render = readRenderSettings(*in, api.maxSize, true);
     if (!render) return sendError(res, render.error());
+    render->effects = choice->effects;
+    render->effectsKey = choice->key;
     JobSettings s;
     s.render = *render;
     auto fps = in->number("fps", 30.0, 1.0, 240.0);

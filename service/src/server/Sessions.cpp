@@ -26,6 +26,7 @@ hlod::Result<std::unique_ptr<Session>> openSession(Scene& scene, const RenderSet
   o.selector = settings.selector;
   o.selectorParams.ssePixels = settings.ssePx;
   o.memoryCapBytes = settings.memoryCapBytes;
+  o.effects = settings.effects;
   o.cache = cache;
   o.cacheStore = scene.cacheStore;
   o.knownVTime = scene.knownVTime(settings.width, settings.height);

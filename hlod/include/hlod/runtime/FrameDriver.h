@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -81,6 +82,8 @@ struct FrameDriverOptions {
   int width = 1280;
   int height = 720;
   std::size_t recentFrames = 600;  // records kept in recent(): a bounded ring for long sessions
+  // The scene's fog: nodes wholly beyond this are not selected (View::fogCullDistance).
+  double fogCullDistance = std::numeric_limits<double>::infinity();
   // start() starts the loader's thread; tests leave it off and step the loader themselves.
   bool loaderThread = true;
 };
@@ -128,9 +131,14 @@ class FrameDriver {
   Aabb bounds_;
   std::uint64_t frames_ = 0;
   double measuredVTime_ = 0.0;
+  double screenPassMs_ = 0.0;  // the last frame's per-pixel passes (screenPassMs)
   std::deque<FrameRecord> recent_;
   std::vector<std::uint32_t> lastFront_;
 };
+
+// The time of a frame's per-pixel passes (isScreenPass): a cost of the frame size, not of the
+// front, which the budget reserves and the v_time feedback leaves out.
+double screenPassMs(const DrawReport& report);
 
 // The front of a selection ordered near to far from the camera (by distance to each node's box):
 // the depth test then rejects hidden fragments before they are shaded, which on a software
