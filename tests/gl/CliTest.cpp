@@ -153,3 +153,35 @@ TEST_F(HlodrCli, RenderTakesASceneFileAndNamesTheFieldOfABadOne) {
   EXPECT_EQ(both.status, 2);
   EXPECT_NE(both.output.find("--fog and --scene"), std::string::npos) << both.output;
 }
+
+TEST_F(HlodrCli, StudyBuildComparesTheSimplifiersPerLevelAndWritesJsonAndCsv) {
+  const auto c = hlodr("city -o " + path("city") + " --blocks 1 --texture 64 --quiet");
+  ASSERT_EQ(c.status, 0) << c.output;
+  const auto r = hlodr("study-build " + path("city") + " -o " + path("sb") +
+                       " --samples 2000 --desired-tris 2000 --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("hausdorff"), std::string::npos) << r.output;
+  std::ifstream csv(dir / "sb" / "build-study.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("simplifier,buildSeconds,level,", 0), 0u) << header;
+  int rows[2] = {0, 0};
+  std::string last[2];
+  while (std::getline(csv, line)) {
+    const int k = line.rfind("openmesh", 0) == 0 ? 1 : 0;
+    ++rows[k];
+    last[k] = line;
+  }
+  EXPECT_GE(rows[0], 2);
+  EXPECT_EQ(rows[0], rows[1]);  // both simplifiers, the same levels
+  // The deepest cut is the leaves, the original triangles: no distance (column 7, hausdorff).
+  for (const std::string& l : last) {
+    std::size_t at = 0;
+    for (int comma = 0; comma < 6; ++comma) at = l.find(',', at) + 1;
+    EXPECT_LT(std::stod(l.substr(at)), 1e-6) << l;
+  }
+  EXPECT_TRUE(fs::exists(dir / "sb" / "build-study.json"));
+  const auto bad = hlodr("study-build " + path("city") + " --simplifiers qslim");
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_NE(bad.output.find("qslim"), std::string::npos) << bad.output;
+}
