@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -73,38 +74,56 @@ struct Measured {
   double gpuMs = 0.0;  // median frame time (uploads included)
 };
 
-hlod::Result<Measured> measure(const std::filesystem::path& store, service::SessionOptions o,
-                               int frames) {
-  auto session = service::Session::open(store, o);
-  if (!session) return session.error();
+// One session per combination, all open at once, measured round-robin: a frame of each in
+// turn, so that a change in the machine's load (it is shared) spreads over all of them instead
+// of landing on one.
+hlod::Result<std::vector<Measured>> measure(const std::filesystem::path& store,
+                                            const std::vector<service::SessionOptions>& options,
+                                            int frames) {
+  std::vector<std::unique_ptr<service::Session>> sessions;
   const hlod::CameraSample cam = threeQuarterView();
-  // Settle the front (and v_time for the budgeted run) before measuring.
-  for (int i = 0; i < 12; ++i)
-    if (auto r = (*session)->renderFrame(cam, hlod::FrameMode::Settled); !r) return r.error();
-  std::vector<double> draw, gpu, tris;
-  std::map<std::string, std::vector<double>> passes;
-  for (int i = 0; i < frames; ++i) {
-    auto r = (*session)->renderFrame(cam, hlod::FrameMode::Settled);
-    if (!r) return r.error();
-    draw.push_back(r->drawMs);
-    gpu.push_back(r->gpuMs);
-    tris.push_back(static_cast<double>(r->triangles));
-    for (auto [name, ms] :
-         std::initializer_list<std::pair<const char*, double>>{{"shadow", r->shadowMs},
-                                                               {"geometry", r->geometryMs},
-                                                               {"sky", r->skyMs},
-                                                               {"ssao", r->ssaoMs},
-                                                               {"ssao-blur", r->ssaoBlurMs},
-                                                               {"composite", r->compositeMs},
-                                                               {"outline", r->outlineMs}})
-      passes[name].push_back(ms);
+  for (const auto& o : options) {
+    auto session = service::Session::open(store, o);
+    if (!session) return session.error();
+    // Settle the front (and v_time for the budgeted run) before measuring.
+    for (int i = 0; i < 12; ++i)
+      if (auto r = (*session)->renderFrame(cam, hlod::FrameMode::Settled); !r) return r.error();
+    sessions.push_back(std::move(*session));
   }
-  Measured m;
-  m.frameMs = median(draw);
-  m.gpuMs = median(gpu);
-  m.triangles = median(tris);
-  for (auto& [name, v] : passes) m.passMs[name] = median(v);
-  return m;
+  struct Samples {
+    std::vector<double> draw, gpu, tris;
+    std::map<std::string, std::vector<double>> passes;
+  };
+  std::vector<Samples> samples(sessions.size());
+  for (int i = 0; i < frames; ++i) {
+    for (std::size_t k = 0; k < sessions.size(); ++k) {
+      auto r = sessions[k]->renderFrame(cam, hlod::FrameMode::Settled);
+      if (!r) return r.error();
+      Samples& s = samples[k];
+      s.draw.push_back(r->drawMs);
+      s.gpu.push_back(r->gpuMs);
+      s.tris.push_back(static_cast<double>(r->triangles));
+      for (auto [name, ms] :
+           std::initializer_list<std::pair<const char*, double>>{{"shadow", r->shadowMs},
+                                                                 {"geometry", r->geometryMs},
+                                                                 {"sky", r->skyMs},
+                                                                 {"ssao", r->ssaoMs},
+                                                                 {"ssao-blur", r->ssaoBlurMs},
+                                                                 {"composite", r->compositeMs},
+                                                                 {"outline", r->outlineMs}})
+        s.passes[name].push_back(ms);
+    }
+  }
+  std::vector<Measured> out;
+  for (const Samples& s : samples) {
+    Measured m;
+    m.frameMs = median(s.draw);
+    m.gpuMs = median(s.gpu);
+    m.triangles = median(s.tris);
+    for (const auto& [name, v] : s.passes) m.passMs[name] = median(v);
+    out.push_back(m);
+  }
+  return out;
 }
 
 }  // namespace
@@ -135,7 +154,7 @@ int main(int argc, char** argv) {
   std::printf("%-24s %9s %9s %8s %7s | %7s %8s %6s %6s %6s %6s %7s\n", "effects", "frame ms",
               "effect ms", "% frame", "Mtri", "shadow", "geometry", "sky", "ssao", "blur", "comp",
               "outline");
-  double previous = 0.0;
+  std::vector<service::SessionOptions> sameFront;
   for (const Combination& c : list) {
     service::SessionOptions o;
     o.width = width;
@@ -143,40 +162,50 @@ int main(int argc, char** argv) {
     o.selector = "sse";
     o.selectorParams.ssePixels = 4.0;
     o.effects = c.effects;
-    auto m = measure(*store, o, frames);
-    if (!m) {
-      std::fprintf(stderr, "effects_bench: %s: %s\n", c.name.c_str(), m.message().c_str());
-      return 1;
-    }
-    const double added = previous > 0.0 ? m->frameMs - previous : 0.0;
-    std::printf("%-24s %9.1f %+9.1f %7.1f%% %7.2f | %7.1f %8.1f %6.1f %6.1f %6.1f %6.1f %7.1f\n",
-                c.name.c_str(), m->frameMs, added,
-                m->frameMs > 0.0 ? 100.0 * added / m->frameMs : 0.0, m->triangles * 1e-6,
-                m->passMs["shadow"], m->passMs["geometry"], m->passMs["sky"], m->passMs["ssao"],
-                m->passMs["ssao-blur"], m->passMs["composite"], m->passMs["outline"]);
-    previous = m->frameMs;
-    // The budget of part 2: what the default city scene's frame costs at this front.
-    if (budgetMs <= 0.0 && c.name == "+ fog (city.json)") budgetMs = m->frameMs;
+    sameFront.push_back(o);
   }
+  auto measured = measure(*store, sameFront, frames);
+  if (!measured) {
+    std::fprintf(stderr, "effects_bench: %s\n", measured.message().c_str());
+    return 1;
+  }
+  double previous = 0.0;
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    Measured& m = (*measured)[k];
+    const double added = previous > 0.0 ? m.frameMs - previous : 0.0;
+    std::printf("%-24s %9.1f %+9.1f %7.1f%% %7.2f | %7.1f %8.1f %6.1f %6.1f %6.1f %6.1f %7.1f\n",
+                list[k].name.c_str(), m.frameMs, added,
+                m.frameMs > 0.0 ? 100.0 * added / m.frameMs : 0.0, m.triangles * 1e-6,
+                m.passMs["shadow"], m.passMs["geometry"], m.passMs["sky"], m.passMs["ssao"],
+                m.passMs["ssao-blur"], m.passMs["composite"], m.passMs["outline"]);
+    previous = m.frameMs;
+    // The budget of part 2: what the default city scene's frame costs at this front.
+    if (budgetMs <= 0.0 && list[k].name == "+ fog (city.json)") budgetMs = m.frameMs;
+  }
+  std::fflush(stdout);
 
   std::printf("\nPart 2: lakhia at a fixed budget of %.0f ms, settled, %dx%d\n", budgetMs, width,
               height);
   std::printf("%-24s %9s %9s %9s\n", "effects", "frame ms", "Mtri", "vs first");
-  double firstTriangles = 0.0;
+  std::vector<service::SessionOptions> budgeted;
   for (const Combination& c : list) {
     service::SessionOptions o;
     o.width = width;
     o.height = height;
     o.budgetMs = budgetMs;
     o.effects = c.effects;
-    auto m = measure(*store, o, frames);
-    if (!m) {
-      std::fprintf(stderr, "effects_bench: %s: %s\n", c.name.c_str(), m.message().c_str());
-      return 1;
-    }
-    if (firstTriangles <= 0.0) firstTriangles = m->triangles;
-    std::printf("%-24s %9.1f %9.2f %8.0f%%\n", c.name.c_str(), m->gpuMs, m->triangles * 1e-6,
-                100.0 * m->triangles / firstTriangles);
+    budgeted.push_back(o);
+  }
+  auto onBudget = measure(*store, budgeted, frames);
+  if (!onBudget) {
+    std::fprintf(stderr, "effects_bench: %s\n", onBudget.message().c_str());
+    return 1;
+  }
+  const double firstTriangles = (*onBudget)[0].triangles;
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const Measured& m = (*onBudget)[k];
+    std::printf("%-24s %9.1f %9.2f %8.0f%%\n", list[k].name.c_str(), m.gpuMs, m.triangles * 1e-6,
+                100.0 * m.triangles / firstTriangles);
   }
   return 0;
 }

@@ -25,8 +25,8 @@ struct SunLight {
 
 // Exponential distance fog towards the background's horizon colour: a fragment at distance d
 // keeps exp(-density d) of its colour. density 0: derived from the view distance each frame,
-// 1 / far (far: the far side of the model seen from the eye), so the farthest geometry keeps
-// 37% of its colour whatever the model's size.
+// 1 / far (far: the frame's far plane, past the far side of the model), so the farthest geometry
+// keeps at least 37% of its colour whatever the model's size.
 struct FogEffect {
   double density = 0.0;
 };
