@@ -20,7 +20,9 @@ hlod::Result<std::unique_ptr<GpuNodeRenderer>> GpuNodeRenderer::create(
 }
 
 GpuNodeRenderer::GpuNodeRenderer(const hlod::Skeleton& skeleton, std::unique_ptr<Renderer> renderer)
-    : renderer_(std::move(renderer)), residency_(renderer_->gl(), skeleton.nodes.size()) {
+    : skeleton_(skeleton),
+      renderer_(std::move(renderer)),
+      residency_(renderer_->gl(), skeleton.nodes.size()) {
   for (std::uint32_t r : skeleton.roots) bounds_.extend(skeleton.nodes[r].bounds);
 }
 

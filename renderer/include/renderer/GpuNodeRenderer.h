@@ -33,6 +33,7 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
  private:
   GpuNodeRenderer(const hlod::Skeleton& skeleton, std::unique_ptr<Renderer> renderer);
 
+  const hlod::Skeleton& skeleton_;  // the drawn nodes' bounds fit the shadow map
   std::unique_ptr<Renderer> renderer_;
   GpuResidency residency_;
   hlod::Aabb bounds_;  // of the whole model: the clip planes
