@@ -250,3 +250,34 @@ put("request_body", "study.json", b"\4" + json.dumps(
     {"scene": "city", "path": {"kind": "walk-fly"}, "budgets": [10, 33, 100], "selectors":
      ["lakhia", "sse"], "ssePx": [2, 8], "width": 160, "height": 90, "frames": 12, "fps": 30,
      "mode": "both", "strips": 2}).encode())
+
+# inline scenes and scene file names (the fuzz's data folder holds scene.json)
+inline = {"store": "city", "camera": cam, "background": {"colour": [0.1, 0.2, 0.3]},
+          "effects": {"textures": True, "shading": "blinn-phong", "sun": {"direction": [0, 0, 1]},
+                      "ssao": True, "outline": {"thickness": 2}}}
+put("request_body", "render-inline-scene.json", b"\0" + json.dumps(
+    {"scene": inline, "width": 64, "height": 64}).encode())
+put("request_body", "session-scene-file.json", b"\1" + json.dumps({"scene": "scene.json"}).encode())
+put("request_body", "job-inline-scene.json", b"\3" + json.dumps(
+    {"scene": {"store": "x.hlod", "effects": {"fog": {"density": 0.01}, "shadows": True}},
+     "path": {"kind": "drive"}}).encode())
+
+# --- scene files (docs/scene.md), and the repository's own scenes/ ---
+put("scene_file", "doc-example.json", json.dumps({
+    "store": "../out/city.hlod",
+    "camera": {"position": [-300, -600, 400], "target": [400, 400, 0], "up": [0, 0, 1], "fov": 50},
+    "background": {"sky": {"horizon": [0.80, 0.87, 0.95], "zenith": [0.30, 0.52, 0.86]}},
+    "effects": {"textures": True, "shading": "lambert",
+                "sun": {"direction": [0.45, -0.35, 0.82], "colour": [1.0, 0.96, 0.88], "intensity": 1.1},
+                "fog": {"density": 0.00015}, "shadows": {"resolution": 2048},
+                "ssao": {"radius": 3.0, "samples": 12}, "outline": {"colour": [0.05, 0.05, 0.05]}}}))
+put("scene_file", "minimal.json", "{}")
+put("scene_file", "booleans.json", json.dumps({
+    "background": {"colour": [1, 1, 1]},
+    "effects": {"textures": False, "shading": "blinn-phong", "sun": True, "fog": True,
+                "shadows": True, "ssao": {"strength": 4}, "outline": {"threshold": 0.5, "thickness": 8}}}))
+scenes = os.path.join(HERE, "..", "..", "scenes")
+for name in sorted(os.listdir(scenes)) if os.path.isdir(scenes) else []:
+    if name.endswith(".json"):
+        with open(os.path.join(scenes, name), "rb") as f:
+            put("scene_file", "scenes-" + name, f.read())

@@ -156,6 +156,21 @@ TEST(PlyImport, RejectsAbsurdVertexCountBeforeAllocating) {
   EXPECT_NE(model.message().find("1000000000000"), std::string::npos) << model.message();
 }
 
+// Found by the ply fuzz target (corpus/ply/crash-propertyless-face-count-reserved-48gb.ply): a
+// face element without properties takes no bytes, so its count passed the size check, and the
+// reader reserved room for 4294967295 faces (48 GB) and failed as "out of memory".
+TEST(PlyImport, AFaceElementWithoutPropertiesReservesNothingForItsCount) {
+  TempDir dir;
+  for (const char* format : {"ascii", "binary_little_endian"}) {
+    const std::string s =
+        std::string("ply\nformat ") + format + " 1.0\nelement face 4294967295\nend_header\n0 0 0\n";
+    auto model = importModel(dir.write("faces.ply", s));
+    ASSERT_FALSE(model.ok()) << format;
+    EXPECT_EQ(model.message().find("out of memory"), std::string::npos) << model.message();
+    EXPECT_NE(model.message().find("no 'vertex' element"), std::string::npos) << model.message();
+  }
+}
+
 TEST(PlyImport, RejectsAsciiGarbageAndMissingHeaderEnd) {
   TempDir dir;
   std::string bad = kAsciiQuad;

@@ -49,6 +49,16 @@ TEST(SceneFile, ReadsEveryDeclaredEffectWithItsSettings) {
   EXPECT_TRUE(s->effects.outline);
 }
 
+// Found by the scene_file fuzz target: the default direction was 0.1% short of unit length,
+// which SunLight promises (its corpus input seed-booleans.json declares "sun": true).
+TEST(SceneFile, TheDefaultSunDirectionIsUnitLength) {
+  auto s = parseScene(R"({"effects": {"sun": true}})");
+  ASSERT_TRUE(s) << s.message();
+  ASSERT_TRUE(s->effects.sun);
+  EXPECT_NEAR(glm::length(s->effects.sun->direction), 1.0, 1e-12);
+  EXPECT_NEAR(glm::length(defaultEffects().sun->direction), 1.0, 1e-12);
+}
+
 TEST(SceneFile, AnUnknownEffectIsAnErrorListingTheKnownOnes) {
   auto s = parseScene(R"({"effects": {"bloom": true}})");
   ASSERT_FALSE(s);

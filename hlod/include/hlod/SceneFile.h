@@ -18,7 +18,7 @@ enum class Shading { Unlit, Lambert, BlinnPhong };
 
 // A directional light: `direction` points towards the sun (world space, unit length).
 struct SunLight {
-  glm::dvec3 direction{0.45, -0.35, 0.82};
+  glm::dvec3 direction = glm::normalize(glm::dvec3(0.45, -0.35, 0.82));
   glm::vec3 colour{1.0f, 0.96f, 0.88f};
   float intensity = 1.0f;
 };

@@ -1,6 +1,7 @@
 // PLY reader: ascii, binary_little_endian and binary_big_endian; float or double vertex
 // coordinates (doubles kept exactly), optional normals and texture coordinates, polygon faces
 // fan-triangulated, unknown properties and elements skipped by their declared types.
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -329,13 +330,23 @@ class PlyParser {
                                 std::to_string(i) + " of " + std::to_string(e.count) + ")");
   }
 
+  // Room for the face element's triangles, as many as its count claims but no more than the
+  // bytes left could hold: a triangle takes at least 4 bytes (binary: a count and three 1-byte
+  // indices; ascii: more). checkCounts bounds counts only for elements whose items take bytes,
+  // so a propertyless "element face 4294967295" once reserved 48 GB here.
+  void reserveFaces(const PlyElement& e) {
+    const std::uint64_t most = (bytes_.size() - dataStart_) / 4;
+    mesh_.indices.reserve(mesh_.indices.size() + std::min<std::uint64_t>(e.count, most) * 3);
+  }
+
   Status readBinary(const PlyElement& e) {
     const bool big = format_ == Format::BinaryBig;
     const bool isVertex = e.name == "vertex" && !sawVertices_;
     const bool isFace = e.name == "face";
     if (isVertex)
       if (auto s = beginVertices(e); !s.ok()) return s;
-    if (isFace) mesh_.indices.reserve(mesh_.indices.size() + e.count * 3);
+    if (e.props.empty()) return Ok{};  // its items take no bytes: nothing to read
+    if (isFace) reserveFaces(e);
     const char* data = bytes_.data();
     const std::size_t size = bytes_.size();
     std::size_t& at = dataStart_;
@@ -376,7 +387,8 @@ class PlyParser {
     const bool isFace = e.name == "face";
     if (isVertex)
       if (auto s = beginVertices(e); !s.ok()) return s;
-    if (isFace) mesh_.indices.reserve(mesh_.indices.size() + e.count * 3);
+    if (e.props.empty()) return Ok{};  // its items take no characters: nothing to read
+    if (isFace) reserveFaces(e);
     for (std::uint64_t i = 0; i < e.count; ++i) {
       bool havePolygon = false;
       scan_.skipSpace();
