@@ -14,6 +14,7 @@
 
 #include "hlod/CameraPath.h"
 #include "hlod/NodeSource.h"
+#include "hlod/SceneFile.h"
 #include "hlod/study/StudyReport.h"
 #include "renderer/GlContext.h"
 
@@ -31,6 +32,9 @@ struct StudyOptions {
   bool realtime = false;
   std::size_t stripFrames = 3;  // frames shown in strips at every Lakhia budget
   std::uint64_t memoryCapBytes = 0;
+  // What every frame draws, the reference's too: what `hlodr render` draws without a scene
+  // (textures, lambert, sun), so that the errors are those a user sees, not of flat silhouettes.
+  hlod::SceneEffects effects = hlod::defaultEffects();
 };
 
 // what: a line for a person; fraction: of the whole study.

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "cmd/Commands.h"
+#include "cmd/SceneArgs.h"
 #include "hlod/NodeStore.h"
 #include "service/Args.h"
 #include "service/Progress.h"
@@ -30,6 +31,9 @@ const char* const kStudyUsage =
     "  --mode M            settled (default), realtime or both\n"
     "  --strips N          frames shown in strips at every Lakhia budget (default 3)\n"
     "  --memory-mb N       loader memory cap per session (default: none)\n"
+    "  --scene FILE        the effects every frame draws (docs/scene.md; default: textures,\n"
+    "                      lambert shading and the sun, as `hlodr render`); or --unlit,\n"
+    "                      --no-textures, --fog\n"
     "  --quiet             no progress line\n";
 
 namespace {
@@ -60,9 +64,9 @@ int fail(const std::string& message, int code = 1) {
 }  // namespace
 
 int runStudy(const Argv& argv) {
-  auto args = Args::parse(argv, {"quiet"},
+  auto args = Args::parse(argv, {"quiet", "unlit", "no-textures", "fog"},
                           {"output", "path", "kind", "budgets", "selectors", "sse-px", "size",
-                           "frames", "fps", "mode", "strips", "memory-mb"});
+                           "frames", "fps", "mode", "strips", "memory-mb", "scene"});
   if (!args) return fail(args.message() + "\n" + kStudyUsage, 2);
   if (args->positionals().size() != 1)
     return fail(std::string("give one node STORE (made by `hlodr build`)\n") + kStudyUsage, 2);
@@ -107,6 +111,10 @@ int runStudy(const Argv& argv) {
     return fail("--mode must be settled, realtime or both", 2);
   o.settled = mode != "realtime";
   o.realtime = mode != "settled";
+  // Stores do not keep the model's up axis yet: the study's paths are Z-up.
+  auto declared = sceneFromArgs(*args, {0.0, 0.0, 1.0});
+  if (!declared) return fail(declared.message(), 2);
+  o.effects = declared->scene.effects;
 
   const std::string storePath = args->positionals()[0];
   if (!isNodeStore(storePath))
@@ -129,7 +137,8 @@ int runStudy(const Argv& argv) {
       {"mode", mode},
       {"budgets", o.budgets},
       {"selectors", o.selectors},
-      {"ssePx", o.ssePx}};
+      {"ssePx", o.ssePx},
+      {"scene", declared->fromFile ? declared->file.string() : std::string("default effects")}};
   ProgressLine progress("study", args->has("quiet"));
   auto report = service::runStudy(
       source, *path, o, args->get("output", ""), settings,

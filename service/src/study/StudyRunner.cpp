@@ -93,6 +93,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   base.height = o.height;
   base.memoryCapBytes = o.memoryCapBytes;
   base.recentFrames = 0;
+  base.effects = o.effects;
 
   // The reference: full detail, settled, once per studied frame.
   StudyReport report;
