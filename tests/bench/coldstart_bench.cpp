@@ -120,7 +120,8 @@ int main(int argc, char** argv) {
     std::sort(q.begin(), q.end());
     const auto within = std::count_if(q.begin(), q.end(), [](double x) { return x <= 1.25; });
     std::printf("%s v_time: median %.2f x budget, max %.2f, %ld of %zu first frames within 1.25x\n",
-                pass == 0 ? "measured" : "known", q[q.size() / 2], q.back(), long(within), q.size());
+                pass == 0 ? "measured" : "known", q[q.size() / 2], q.back(), long(within),
+                q.size());
   }
   return 0;
 }

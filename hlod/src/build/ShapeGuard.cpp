@@ -159,8 +159,8 @@ Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size
   }
   // The error is what was measured: the lost surface beyond the simplifier's own estimate.
   if (!out.indices.empty()) {
-    auto beyond = metrics::farSamples(original, asMesh(shape, out.indices), samples,
-                                      out.geometricError);
+    auto beyond =
+        metrics::farSamples(original, asMesh(shape, out.indices), samples, out.geometricError);
     if (beyond)
       for (const metrics::FarSample& x : *beyond)
         out.geometricError = std::max(out.geometricError, x.distance);

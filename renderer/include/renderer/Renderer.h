@@ -11,8 +11,8 @@
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
-#include "hlod/metrics/ImageMetrics.h"
 #include "hlod/SceneFile.h"
+#include "hlod/metrics/ImageMetrics.h"
 #include "renderer/FrameView.h"
 #include "renderer/GlContext.h"
 #include "renderer/GpuMesh.h"
