@@ -395,6 +395,12 @@ TEST(CityJsonImport, MalformedFilesGiveErrorsThatNameTheProblem) {
   overflow["vertices"][1] = {10, 0, 0};
   EXPECT_ERROR_HAS(importText(dir, overflow.dump()), "vertices[1][0]: coordinate is not finite");
 
+  json pastPole = json::parse(good);
+  pastPole["metadata"] = {{"referenceSystem", "urn:ogc:def:crs:EPSG::4326"}};
+  pastPole["vertices"][3] = {95, 100, 0};  // neither coordinate can be a latitude
+  EXPECT_ERROR_HAS(importText(dir, pastPole.dump()),
+                   "vertices[3]: latitude past 90 degrees in geographic EPSG:4326");
+
   EXPECT_ERROR_HAS(importText(dir, std::string(200, '[') + std::string(200, ']')),
                    "JSON nested deeper than 128 levels");
   json notType = json::parse(good);
@@ -514,8 +520,8 @@ TEST(CityJsonImport, RotterdamDelfshavenImportsItsBuildingsWithRoofsOnTop) {
   EXPECT_EQ(m->cityObjects, 853u);
   EXPECT_EQ(m->crs.epsg, 7415);
   EXPECT_FALSE(m->crs.toEnu);
-  // 38,772 triangles if every ring of n points gave n - 2; 722 surfaces are two points repeated
-  // (no area) and are skipped.
+  // 38,772 triangles if every ring of n points gave n - 2; 725 surfaces have no area (722 are
+  // two points, each repeated) and are skipped.
   EXPECT_GE(m->triangleCount(), 37000u);
   EXPECT_LE(m->triangleCount(), 38800u);
   const Mesh* roof = meshNamed(*m, "roof");

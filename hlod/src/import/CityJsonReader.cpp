@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -28,6 +29,7 @@
 #include "hlod/import/CityJsonPalette.h"
 #include "hlod/import/EarClip.h"
 #include "hlod/import/Epsg.h"
+#include "import/CityJsonFrame.h"
 #include "import/ImportUtil.h"
 #include "import/JsonDepth.h"
 
@@ -175,7 +177,6 @@ class Reader {
   std::size_t oneSidedTwin(std::size_t bucket);
   Status readTemplateVertices();
   void emit(std::vector<Polygon>& polygons);
-  glm::dvec3 toModel(const glm::dvec3& source) const;
 
   const std::filesystem::path& path_;
   const json& root_;
@@ -185,9 +186,7 @@ class Reader {
   std::vector<glm::dvec3> sourceVertices_;  // as the file means them (transform applied)
   std::vector<glm::dvec3> vertices_;        // in the model's frame
   std::optional<std::vector<glm::dvec3>> templateVertices_;  // read at the first instance
-  CrsKind crsKind_ = CrsKind::Projected;
-  bool lonLat_ = false;  // geographic data written longitude first (against EPSG's order)
-  std::optional<EnuFrame> enu_;
+  CityJsonFrame frame_;
   std::vector<glm::vec4> materialColours_;  // per appearance material; alpha 0: none given
   std::vector<std::string> materialNames_;
   std::vector<Bucket> buckets_;
@@ -278,49 +277,22 @@ Status Reader::readCrs() {
         epsg = int(std::clamp<std::int64_t>(e->get<std::int64_t>(), 0, 999999));
     }
   }
-  ModelCrs& crs = model_.crs;
-  crs.epsg = epsg;
-  crsKind_ = epsg ? crsKind(epsg) : CrsKind::Projected;
-  if (crsKind_ == CrsKind::Projected) {
-    crs.description = describeEpsg(epsg) + ": coordinates kept as they are";
-    vertices_ = sourceVertices_;
-    return Ok{};
-  }
-  if (sourceVertices_.empty()) return Ok{};
   Aabb box;
   for (const auto& p : sourceVertices_) box.extend(p);
-  LatLon origin;
-  if (crsKind_ == CrsKind::Geographic) {
-    // EPSG's order is latitude first; data with a first coordinate past 90 degrees can only have
-    // been written longitude first (as many tools do), and is read so.
-    lonLat_ = std::max(std::abs(box.min.x), std::abs(box.max.x)) > 90.0 &&
-              std::max(std::abs(box.min.y), std::abs(box.max.y)) <= 90.0;
-    const glm::dvec3 c = box.centre();
-    origin = lonLat_ ? LatLon{c.y, c.x, c.z} : LatLon{c.x, c.y, c.z};
-    if (std::abs(origin.lat) > 90.0)
-      return fail("vertices", "latitudes beyond 90 degrees in geographic " + describeEpsg(epsg));
-    if (lonLat_)
-      warn(path_, "coordinates read as longitude, latitude: the first one goes past 90 degrees");
-  } else {
-    origin = ecefToGeodetic(box.centre());
-  }
-  enu_.emplace(origin);
-  crs.toEnu = true;
-  crs.originLat = origin.lat;
-  crs.originLon = origin.lon;
-  crs.originHeight = origin.height;
-  crs.description = describeEpsg(epsg) + ": converted to east-north-up metres";
+  auto frame = CityJsonFrame::make(epsg, box, model_.crs);
+  if (!frame) return frame.error();
+  frame_ = std::move(*frame);
+  if (frame_.lonLat())
+    warn(path_, "coordinates read as longitude, latitude: the first one goes past 90 degrees");
   vertices_.resize(sourceVertices_.size());
-  for (std::size_t i = 0; i < sourceVertices_.size(); ++i)
-    vertices_[i] = toModel(sourceVertices_[i]);
+  for (std::size_t i = 0; i < sourceVertices_.size(); ++i) {
+    const auto v = frame_.toModel(sourceVertices_[i]);
+    if (!v)
+      return fail("vertices[" + std::to_string(i) + "]",
+                  "latitude past 90 degrees in geographic " + describeEpsg(epsg));
+    vertices_[i] = *v;
+  }
   return Ok{};
-}
-
-glm::dvec3 Reader::toModel(const glm::dvec3& p) const {
-  if (!enu_) return p;
-  if (crsKind_ == CrsKind::Geographic)
-    return enu_->fromGeodetic(lonLat_ ? LatLon{p.y, p.x, p.z} : LatLon{p.x, p.y, p.z});
-  return enu_->fromEcef(p);
 }
 
 Status Reader::readMaterials() {
@@ -408,8 +380,8 @@ std::size_t Reader::bucketFor(const json& g, const std::array<std::size_t, 3>& a
           labelled = true;
         }
     }
-    // Without semantics, and where a "wall" lies closer to horizontal than to vertical (some
-    // data, Rotterdam's 0.2 example among it, labels every surface a wall), the outward normal
+    // Without semantics, and where a "wall" is tilted more than 30 degrees from vertical (some
+    // data, Rotterdam's 0.2 example among it, labels every surface a wall), the normal as wound
     // tells a roof from the ground.
     if ((!labelled || c == SurfaceClass::Wall) && std::abs(normal.z) > 0.5) {
       if (labelled) ++relabelled_;
@@ -672,7 +644,9 @@ Status Reader::readInstance(const std::string& where, const json& g) {
   source.count = local.size();
   source.at = [&](std::uint32_t i) {
     const glm::dvec4 q = matrix * glm::dvec4(local[i], 1.0);
-    return toModel(origin + glm::dvec3(q));
+    // Past the poles or not finite: NaN, which makes the surface one without area (skipped).
+    return frame_.toModel(origin + glm::dvec3(q))
+        .value_or(glm::dvec3(std::numeric_limits<double>::quiet_NaN()));
   };
   return readGeometry("geometry-templates.templates[" + std::to_string(ti->get<std::uint64_t>()) +
                           "] (placed by " + where + ")",
