@@ -120,6 +120,9 @@ TEST(CityJsonImport, ASolidWoundInwardsIsTurnedOutwards) {
                .dump());
   ASSERT_TRUE(m.ok()) << m.message();
   EXPECT_NEAR(signedVolume(*m), 1.0, 1e-12);
+  // Turned before it is coloured: the top is the roof.
+  ASSERT_NE(meshNamed(*m, "roof (closed solids)"), nullptr);
+  EXPECT_EQ(meshNamed(*m, "roof (closed solids)")->bounds().min.z, 1.0);
   ASSERT_EQ(m->warnings.size(), 1u);
   EXPECT_NE(m->warnings[0].find("1 solid shells wound inwards"), std::string::npos);
 }
@@ -243,6 +246,9 @@ TEST(CityJsonImport, ASolidWithSemanticsIsColouredByThemAndByItsFaces) {
   EXPECT_EQ(meshNamed(*m, "ground (closed solids)")->triangleCount(), 1u);
   EXPECT_EQ(meshNamed(*m, "roof (closed solids)")->triangleCount(), 1u);
   EXPECT_EQ(meshNamed(*m, "wall (closed solids)")->triangleCount(), 2u);
+  EXPECT_EQ(meshNamed(*m, "ground (closed solids)")->bounds().max.z, 0.0);
+  EXPECT_EQ(meshNamed(*m, "roof (closed solids)")->bounds().max.z, 1.0);
+  EXPECT_LT(meshNamed(*m, "ground (closed solids)")->normals[0].z, -0.99f);
   EXPECT_EQ(m->bounds().max, glm::dvec3(1.0));
 }
 
@@ -390,6 +396,9 @@ TEST(CityJsonImport, MalformedFilesGiveErrorsThatNameTheProblem) {
   std::string nan = good;
   nan.replace(nan.find("[0,0,0]"), 7, "[NaN,0,0]");
   EXPECT_ERROR_HAS(importText(dir, nan), "not valid JSON");
+  std::string huge = good;
+  huge.replace(huge.find("[0,0,0]"), 7, "[1e400,0,0]");
+  EXPECT_ERROR_HAS(importText(dir, huge), "not valid JSON: number overflow parsing '1e400'");
   json overflow = json::parse(good);
   overflow["transform"]["scale"] = {1e308, 1.0, 1.0};
   overflow["vertices"][1] = {10, 0, 0};

@@ -131,6 +131,7 @@ bool lodMatches(const Lod& lod, const std::string& wanted) {
 // One triangulated polygon before it joins its mesh: a shell is flipped as a whole when its
 // volume says it is wound inwards.
 struct Polygon {
+  std::array<std::size_t, 3> at{};  // solid, shell, surface: where semantics and materials are
   std::size_t bucket = 0;
   glm::dvec3 normal{0.0};
   std::vector<glm::dvec3> points;
@@ -525,10 +526,10 @@ Status Reader::readGeometry(const std::string& where, const json& g, const Verte
       poly.normal = len > 0.0 ? poly.normal / len : glm::dvec3(0, 0, 1);
       for (auto& ring : points) poly.points.insert(poly.points.end(), ring.begin(), ring.end());
       poly.triangles = std::move(tri.triangles);
-      const std::array<std::size_t, 3> at = {index[0], index[1], k};
-      poly.bucket = bucketFor(g, at, levels, poly.normal);
+      poly.at = {index[0], index[1], k};
       polygons.push_back(std::move(poly));
     }
+    bool closed = false;
     if (solids && !polygons.empty()) {
       // The exterior shell (the first) should enclose positive volume, interior shells
       // (cavities) negative; real data gets this wrong often enough to check.
@@ -546,10 +547,13 @@ Status Reader::readGeometry(const std::string& where, const json& g, const Verte
           for (auto& tr : p.triangles) std::swap(tr[1], tr[2]);
         }
       }
-      const bool closed = closedShell(edges);
+      closed = closedShell(edges);
       if (!closed) ++openShells_;
-      if (closed)
-        for (auto& p : polygons) p.bucket = oneSidedTwin(p.bucket);
+    }
+    // Coloured once the winding is settled: the normal may decide between roof and ground.
+    for (auto& p : polygons) {
+      p.bucket = bucketFor(g, p.at, levels, p.normal);
+      if (closed) p.bucket = oneSidedTwin(p.bucket);
     }
     emit(polygons);
   }
@@ -791,8 +795,9 @@ Result<Model> readCityJson(const std::filesystem::path& path, const std::string&
   json root;
   try {
     root = json::parse(bytes);
-  } catch (const json::parse_error& e) {
-    // "[json.exception.parse_error.101] parse error at line 1, column 7: ..." without the tag.
+  } catch (const json::exception& e) {
+    // "[json.exception.parse_error.101] parse error at line 1, column 7: ..." without the tag;
+    // a number past double's range is out_of_range.406.
     std::string what = e.what();
     if (const auto close = what.find("] "); close != std::string::npos)
       what = what.substr(close + 2);
