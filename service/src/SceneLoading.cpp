@@ -11,7 +11,8 @@
 
 namespace service {
 
-hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quiet) {
+hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quiet,
+                                    const hlod::ImportOptions& options) {
   LoadedScene scene;
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
@@ -34,11 +35,11 @@ hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quie
   }
   if (std::filesystem::is_directory(path, ec))
     return hlod::makeError(path.string() + ": a folder but not a city (no city.json)");
-  auto model = hlod::importModel(path);
+  auto model = hlod::importModel(path, options);
   if (!model) return model.error();
   for (const auto& w : model->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  scene.up = model->zUp ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(0.0, 1.0, 0.0);
   scene.model = std::move(*model);
-  scene.up = {0.0, 1.0, 0.0};
   return scene;
 }
 

@@ -229,6 +229,55 @@ put("city_manifest", "antimeridian.json", json.dumps(
      "blocks": [dict(block, frame="anchor", anchor={"lat": 0, "lon": -179.999}),
                 dict(block, name="b3")]}))
 
+# --- CityJSON (read as model.city.json) ---
+CUBE_V = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]
+CUBE_SHELL = [[[0, 3, 2, 1]], [[4, 5, 6, 7]], [[0, 1, 5, 4]], [[1, 2, 6, 5]], [[2, 3, 7, 6]],
+              [[3, 0, 4, 7]]]
+IDENTITY = {"scale": [0.001, 0.001, 0.001], "translate": [84000.0, 446000.0, 0.0]}
+put("cityjson", "solid-semantics-material.city.json", json.dumps({
+    "type": "CityJSON", "version": "2.0", "transform": IDENTITY,
+    "metadata": {"referenceSystem": "https://www.opengis.net/def/crs/EPSG/0/7415"},
+    "appearance": {"materials": [{"name": "brick", "diffuseColor": [0.7, 0.3, 0.2],
+                                  "transparency": 0.1}]},
+    "vertices": [[x * 1000, y * 1000, z * 1000] for x, y, z in CUBE_V],
+    "CityObjects": {"b": {"type": "Building", "geometry": [
+        {"type": "Solid", "lod": "2.2", "boundaries": [CUBE_SHELL],
+         "semantics": {"surfaces": [{"type": "GroundSurface"}, {"type": "RoofSurface"},
+                                    {"type": "WallSurface"}],
+                       "values": [[0, 1, 2, 2, None, 2]]},
+         "material": {"m": {"values": [[None, None, 0, 0, 0, 0]]}}},
+        {"type": "MultiSurface", "lod": "1", "boundaries": [[[0, 1, 2, 3], [0, 2, 3]]]}]}}}))
+put("cityjson", "multisolid-window-hole.city.json", json.dumps({
+    "type": "CityJSON", "version": "1.1", "transform": IDENTITY,
+    "vertices": [[0, 0, 0], [10000, 0, 0], [10000, 0, 6000], [0, 0, 6000],
+                 [4000, 0, 2000], [4000, 0, 4000], [6000, 0, 4000], [6000, 0, 2000]] +
+                [[x * 1000, y * 1000 + 5000, z * 1000] for x, y, z in CUBE_V],
+    "CityObjects": {"w": {"type": "Building", "geometry": [
+        {"type": "MultiSurface", "lod": 2, "boundaries": [[[0, 1, 2, 3], [4, 5, 6, 7]]]},
+        {"type": "MultiSolid", "lod": 2, "boundaries": [
+            [[[[i + 8 for i in ring] for ring in surface] for surface in CUBE_SHELL]]]}]}}}))
+put("cityjson", "template-wgs84.city.json", json.dumps({
+    "type": "CityJSON", "version": "2.0",
+    "transform": {"scale": [1e-7, 1e-7, 0.001], "translate": [51.9, 4.46, 0.0]},
+    "metadata": {"referenceSystem": "https://www.opengis.net/def/crs/EPSG/0/4979"},
+    "geometry-templates": {"templates": [{"type": "MultiSurface", "lod": "1",
+                                          "boundaries": [[[0, 1, 2, 3]]]}],
+                           "vertices-templates": [[0, 0, 0], [1e-5, 0, 0], [1e-5, 1e-5, 0],
+                                                  [0, 1e-5, 0]]},
+    "vertices": [[0, 0, 0], [1000, 1000, 2000]],
+    "CityObjects": {"t": {"type": "SolitaryVegetationObject", "geometry": [
+        {"type": "GeometryInstance", "template": 0, "boundaries": [1],
+         "transformationMatrix": [2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1]},
+        {"type": "MultiPoint", "lod": "1", "boundaries": [0]}]}}}))
+put("cityjson", "v0-2-array-semantics.city.json", json.dumps({
+    "type": "CityModel", "version": "http://www.cityjson.org/version/0.2",
+    "metadata": {"crs": {"epsg": 7415}},
+    "vertices": [[0.5, 0.5, 0.0], [3.5, 0.5, 0.0], [3.5, 2.5, 0.0], [2.0, 1.0, 0.0],
+                 [0.5, 2.5, 0.0], [0.5, 0.5, 4.0], [3.5, 0.5, 4.0]],
+    "CityObjects": {"{1}": {"type": "Building", "geometry": [
+        {"type": "MultiSurface", "lod": 2, "boundaries": [[[0, 1, 2, 3, 4]], [[0, 1, 6, 5]]],
+         "semantics": [{"type": "RoofSurface"}, {"type": "WallSurface"}]}]}}}))
+
 # --- request bodies: first byte the endpoint (0 render, 1 sessions, 2 frame, 3 jobs, 4 studies) ---
 cam = {"position": [0, -50, 20], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 50}
 put("request_body", "render.json", b"\0" + json.dumps(

@@ -1,6 +1,7 @@
 #pragma once
 // Mesh import: OBJ (+MTL, textures), PLY (ascii/binary, float/double), OFF, STL (ascii/binary),
-// glTF 2.0 (.gltf/.glb, base-colour textures). Every failure is an Error naming the file and the
+// glTF 2.0 (.gltf/.glb, base-colour textures), CityJSON 0.x-2.0 (.city.json, .cityjson, and
+// .json files whose content is CityJSON). Every failure is an Error naming the file and the
 // problem (truncated, bad index, NaN coordinate, empty, unknown format); never a crash.
 #include <cstdint>
 #include <filesystem>
@@ -23,11 +24,23 @@ inline constexpr std::uint64_t kMaxGltfSceneElements = 100'000'000;
 // (half of FLT_MAX); beyond it a build would write a store that reads back as corrupt.
 inline constexpr double kMaxCoordinate = 1.7e38;
 
-// True when the extension is one importModel understands.
+// CityJSON: at most this many triangles after geometry templates are instanced (a small file
+// can instance a large template many times); past it the import is an Error.
+inline constexpr std::uint64_t kMaxCityJsonTriangles = 100'000'000;
+
+// What the caller chooses of a model with choices in it.
+struct ImportOptions {
+  // CityJSON: the level of detail to import, as the file writes it ("1", "2", "2.2"); city
+  // objects without geometry at that LoD are left out. Empty: each city object at its highest.
+  std::string lod;
+};
+
+// True when the extension is one importModel understands; a ".json" file is read to see whether
+// it is CityJSON.
 bool isMeshFile(const std::filesystem::path& path);
 
 // Loads a mesh file into a Model (one Mesh per material/primitive group).
-Result<Model> importModel(const std::filesystem::path& path);
+Result<Model> importModel(const std::filesystem::path& path, const ImportOptions& options = {});
 
 // Loads an image file (PNG, JPEG, ...) into RGBA8.
 Result<Image> loadImage(const std::filesystem::path& path);

@@ -65,9 +65,26 @@ struct Mesh {
   Aabb bounds() const;
 };
 
+// The coordinate reference system a geo-referenced import declared (CityJSON's metadata), and
+// what the import did with it: for `hlodr info` and the user, never consulted by the builder.
+struct ModelCrs {
+  int epsg = 0;             // 0: none declared (or not an EPSG code)
+  std::string description;  // e.g. "EPSG:7415 (projected): coordinates kept as they are"
+  // Geographic and earth-centred data are converted into a local east-north-up frame (metres,
+  // X east, Y north, Z up) at this origin: degrees and metres above the WGS84 ellipsoid.
+  bool toEnu = false;
+  double originLat = 0.0, originLon = 0.0, originHeight = 0.0;
+};
+
 // Several meshes: a glTF scene, an OBJ with several materials, a city.
 struct Model {
   std::vector<Mesh> meshes;
+  // What the file was ("CityJSON 2.0"); empty for the plain mesh formats.
+  std::string format;
+  ModelCrs crs;
+  std::size_t cityObjects = 0;  // CityJSON: city objects with imported geometry
+  std::string lod;              // CityJSON: the level(s) of detail imported
+  bool zUp = false;             // true for city models (CityJSON); mesh files are Y-up
   // What the import skipped without failing (a texture it could not load, a material library
   // outside the model's folder): for the caller to show. The library never prints.
   std::vector<std::string> warnings;

@@ -25,6 +25,7 @@
 #include "hlod/Import.h"
 #include "hlod/import/InsideFolder.h"
 #include "import/ImportUtil.h"
+#include "import/JsonDepth.h"
 
 namespace hlod::import {
 namespace {
@@ -32,30 +33,6 @@ namespace {
 // Arrays and objects nested deeper than this are refused before tinygltf parses them (it
 // recurses per level and overflowed the stack at 20,000). glTF itself nests about 6 deep.
 constexpr std::size_t kMaxGltfJsonDepth = 128;
-
-// The deepest nesting of arrays and objects in JSON text, strings skipped; stops counting once
-// past `limit`.
-std::size_t jsonDepth(const char* text, std::size_t size, std::size_t limit) {
-  std::size_t depth = 0, deepest = 0;
-  bool inString = false;
-  for (std::size_t i = 0; i < size; ++i) {
-    const char c = text[i];
-    if (inString) {
-      if (c == '\\')
-        ++i;  // the escaped character cannot end the string
-      else if (c == '"')
-        inString = false;
-    } else if (c == '"') {
-      inString = true;
-    } else if (c == '[' || c == '{') {
-      deepest = std::max(deepest, ++depth);
-      if (deepest > limit) return deepest;
-    } else if ((c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-  }
-  return deepest;
-}
 
 // The JSON chunk of a GLB (header, then chunk 0 of type JSON); null when the header is not one,
 // which tinygltf then reports.

@@ -125,22 +125,41 @@ Status validate(const std::filesystem::path& path, Model& model) {
   return Ok{};
 }
 
+// .city.json and .cityjson say CityJSON by their name; another .json must say so inside.
+bool cityJsonByName(const std::filesystem::path& path) {
+  std::string name = path.filename().string();
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const auto endsWith = [&](std::string_view s) {
+    return name.size() >= s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
+  };
+  return endsWith(".city.json") || endsWith(".cityjson");
+}
+
 }  // namespace
 }  // namespace import
 
 bool isMeshFile(const std::filesystem::path& path) {
   const std::string ext = import::lowerExtension(path);
+  if (import::cityJsonByName(path)) return true;
+  if (ext == ".json") {
+    auto bytes = import::readWholeFile(path);
+    return bytes.ok() && import::looksLikeCityJson(*bytes);
+  }
   return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl" || ext == ".gltf" ||
-         ext == ".glb";
+         ext == ".glb" || ext == ".cityjson";
 }
 
-Result<Model> importModel(const std::filesystem::path& path) {
+Result<Model> importModel(const std::filesystem::path& path, const ImportOptions& options) {
   using namespace import;
   const std::string ext = lowerExtension(path);
-  if (!isMeshFile(path))
+  // CityJSON is .city.json, .cityjson, or any .json whose content says so (read below).
+  const bool byName = cityJsonByName(path);
+  const bool json = byName || ext == ".json";
+  if (!json && !isMeshFile(path))
     return fileError(path, "unknown mesh format '" + ext +
                                "' (expected .obj, .ply, .off, .stl, "
-                               ".gltf or .glb)");
+                               ".gltf, .glb, .city.json or .cityjson)");
   Result<Model> model = makeError("");
   std::vector<std::string> warnings;
   struct Collect {
@@ -157,7 +176,11 @@ Result<Model> importModel(const std::filesystem::path& path) {
       auto bytes = readWholeFile(path);
       if (!bytes.ok()) return bytes.error();
       if (bytes->empty()) return fileError(path, "file is empty");
-      if (ext == ".ply")
+      if (json && !byName && !looksLikeCityJson(*bytes))
+        return fileError(path, "a .json file that is not CityJSON (no \"type\": \"CityJSON\")");
+      if (json)
+        model = readCityJson(path, *bytes, options);
+      else if (ext == ".ply")
         model = readPly(path, *bytes);
       else if (ext == ".off")
         model = readOff(path, *bytes);

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "hlod/Import.h"
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
 
@@ -245,5 +246,9 @@ Result<Model> readOff(const std::filesystem::path& path, const std::string& byte
 Result<Model> readStl(const std::filesystem::path& path, const std::string& bytes);
 Result<Model> readObj(const std::filesystem::path& path, const std::string& bytes);
 Result<Model> readGltf(const std::filesystem::path& path, bool binary);
+Result<Model> readCityJson(const std::filesystem::path& path, const std::string& bytes,
+                           const ImportOptions& options);
+// True when JSON text has the member "type": "CityJSON" (anywhere: members are unordered).
+bool looksLikeCityJson(std::string_view bytes);
 
 }  // namespace hlod::import

@@ -3,6 +3,7 @@
 // default camera that frames it.
 #include <filesystem>
 
+#include "hlod/Import.h"
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
 #include "renderer/FrameView.h"
@@ -11,11 +12,13 @@ namespace service {
 
 struct LoadedScene {
   hlod::Model model;
-  glm::dvec3 up{0.0, 0.0, 1.0};  // cities are Z-up; mesh files (OFF, PLY, OBJ, glTF) Y-up
+  glm::dvec3 up{0.0, 0.0, 1.0};  // cities (folders, CityJSON) are Z-up; other mesh files Y-up
   bool isCity = false;
 };
 
-hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quiet);
+// options: what importModel is to choose (CityJSON's LoD); a city folder has no choices.
+hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quiet,
+                                    const hlod::ImportOptions& options = {});
 
 struct CameraPose {
   glm::dvec3 position{0.0};

@@ -17,12 +17,13 @@ namespace service::cmd {
 const char* const kBuildUsage =
     "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tris N]\n"
     "                   [--simplifier meshopt|openmesh] [--c-tex X] [--max-block-tri N]\n"
-    "                   [--quiet]\n"
+    "                   [--lod X] [--quiet]\n"
     "\n"
     "Builds the HLOD node store (Lakhia et al. III-A/B) that `hlodr render` streams from disk.\n"
     "INPUT is a city folder (with city.json; blocks are loaded one at a time) or one or more\n"
-    "mesh files (OBJ, PLY, OFF, STL, glTF/GLB), whose meshes are grouped by material and cut\n"
-    "into blocks of at most --max-block-tri triangles along their longest axis.\n"
+    "mesh files (OBJ, PLY, OFF, STL, glTF/GLB, CityJSON), whose meshes are grouped by material\n"
+    "(CityJSON: by colour, see README) and cut into blocks of at most --max-block-tri\n"
+    "triangles along their longest axis.\n"
     "Per block: hlod_0 is the block simplified to desiredTri triangles; each level down has\n"
     "levelFactor times more detail, cut into levelFactor pieces perpendicular to the longest\n"
     "dimension, down to leaves that hold the original triangles. Cut vertices are locked so\n"
@@ -39,6 +40,9 @@ const char* const kBuildUsage =
     "                       calibrate` stored ($HLODR_CALIBRATION or\n"
     "                       ~/.config/hlodr/calibration.json), else 0.6\n"
     "  --max-block-tri N    block size bound for mesh files (default 200000)\n"
+    "  --lod X              CityJSON: the level of detail to import, as the file names it (1, 2,\n"
+    "                       2.2 ...); objects without it are left out (default: each city\n"
+    "                       object at its highest)\n"
     "  --quiet              no progress line, no summary\n";
 
 namespace {
@@ -57,7 +61,7 @@ std::string formatSeconds(double s) {
 int runBuild(const Argv& argv) {
   auto args = Args::parse(argv, {"quiet"},
                           {"output", "level-factor", "desired-tris", "desired-tri", "simplifier",
-                           "c-tex", "max-block-tri"});
+                           "c-tex", "max-block-tri", "lod"});
   if (!args) {
     std::fprintf(stderr, "hlodr build: %s\n%s", args.message().c_str(), kBuildUsage);
     return 2;
@@ -136,7 +140,9 @@ int runBuild(const Argv& argv) {
         return 1;
       }
       lines.update(0.0, "importing " + in);
-      auto m = hlod::importModel(in);
+      hlod::ImportOptions importOptions;
+      importOptions.lod = args->get("lod", "");
+      auto m = hlod::importModel(in, importOptions);
       if (!m) {
         lines.done();
         std::fprintf(stderr, "hlodr build: %s\n", m.message().c_str());

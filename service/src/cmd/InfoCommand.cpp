@@ -1,4 +1,5 @@
-// `hlodr info`: what a node store holds, per level.
+// `hlodr info`: what a node store holds, per level; or what a model file imports as.
+#include <chrono>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -6,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cmd/Commands.h"
+#include "hlod/Import.h"
 #include "hlod/NodeStore.h"
 #include "service/Args.h"
 
@@ -13,12 +15,17 @@ namespace service::cmd {
 
 const char* const kInfoUsage =
     "usage: hlodr info STORE [--json]\n"
+    "       hlodr info MODEL [--lod X] [--json]\n"
     "\n"
     "Prints a node store's build parameters, block count, depth, payload bytes, and nodes and\n"
     "triangles per level. Checks the skeleton (checksum, tree structure) on the way.\n"
+    "For a model file (mesh, glTF, CityJSON) prints what `hlodr build` would import: format and\n"
+    "version, coordinate reference system, city objects, the LoD chosen, meshes, triangles, and\n"
+    "the extent in the model's units (for data converted to east-north-up metres, the origin).\n"
     "\n"
     "options:\n"
-    "  --json   machine-readable output\n";
+    "  --json   machine-readable output\n"
+    "  --lod X  CityJSON: the level of detail to import (default: each object at its highest)\n";
 
 namespace {
 
@@ -38,17 +45,89 @@ std::string printable(const std::string& name) {
   return out;
 }
 
+std::string formatOf(const std::filesystem::path& path, const hlod::Model& model) {
+  if (!model.format.empty()) return model.format;
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = char(std::toupper(static_cast<unsigned char>(c)));
+  return ext.empty() ? "mesh" : ext.substr(1);
+}
+
+int modelInfo(const std::string& file, const Args& args) {
+  hlod::ImportOptions options;
+  options.lod = args.get("lod", "");
+  const auto start = std::chrono::steady_clock::now();
+  auto model = hlod::importModel(file, options);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!model) {
+    std::fprintf(stderr, "hlodr info: %s\n", model.message().c_str());
+    return 1;
+  }
+  for (const auto& w : model->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  const hlod::Aabb b = model->bounds();
+  const glm::dvec3 size = b.size();
+  const hlod::ModelCrs& crs = model->crs;
+  const std::string format = formatOf(file, *model);
+  if (args.has("json")) {
+    nlohmann::json j;
+    j["model"] = file;
+    j["format"] = format;
+    j["meshes"] = model->meshes.size();
+    j["triangles"] = model->triangleCount();
+    j["importSeconds"] = seconds;
+    j["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
+    j["extent"] = {size.x, size.y, size.z};
+    j["up"] = model->zUp ? "z" : "y";
+    if (!model->format.empty()) {
+      j["crs"] = {{"epsg", crs.epsg}, {"description", crs.description}, {"toEnu", crs.toEnu}};
+      if (crs.toEnu)
+        j["crs"]["origin"] = {
+            {"lat", crs.originLat}, {"lon", crs.originLon}, {"height", crs.originHeight}};
+      j["cityObjects"] = model->cityObjects;
+      j["lod"] = model->lod;
+    }
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("model         %s\n", file.c_str());
+  std::printf("format        %s\n", printable(format).c_str());
+  if (!model->format.empty()) {
+    std::printf("CRS           %s\n", crs.description.c_str());
+    if (crs.toEnu)
+      std::printf("ENU origin    lat %.9f, lon %.9f, height %.3f m (WGS 84)\n", crs.originLat,
+                  crs.originLon, crs.originHeight);
+    std::printf("city objects  %zu\n", model->cityObjects);
+    std::printf("LoD           %s\n", printable(model->lod).c_str());
+  }
+  std::printf("meshes        %zu\n", model->meshes.size());
+  for (const auto& m : model->meshes)
+    std::printf("  %-28s %9zu triangles, colour %.2f %.2f %.2f%s\n", printable(m.name).c_str(),
+                m.triangleCount(), m.baseColor.r, m.baseColor.g, m.baseColor.b,
+                m.oneSided ? ", one-sided" : "");
+  std::printf("triangles     %zu (imported in %.2f s)\n", model->triangleCount(), seconds);
+  const char* units = crs.toEnu ? " m (east, north, up)" : " (the model's units)";
+  std::printf("extent        %.3f x %.3f x %.3f%s\n", size.x, size.y, size.z, units);
+  std::printf("bounds        (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f)\n", b.min.x, b.min.y, b.min.z,
+              b.max.x, b.max.y, b.max.z);
+  return 0;
+}
+
 }  // namespace
 
 int runInfo(const Argv& argv) {
-  auto args = Args::parse(argv, {"json"}, {});
+  auto args = Args::parse(argv, {"json"}, {"lod"});
   if (!args) {
     std::fprintf(stderr, "hlodr info: %s\n%s", args.message().c_str(), kInfoUsage);
     return 2;
   }
   if (args->positionals().size() != 1) {
-    std::fprintf(stderr, "hlodr info: give exactly one store\n%s", kInfoUsage);
+    std::fprintf(stderr, "hlodr info: give exactly one store or model file\n%s", kInfoUsage);
     return 2;
+  }
+  if (!isNodeStore(args->positionals()[0])) {
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(args->positionals()[0], ec))
+      return modelInfo(args->positionals()[0], *args);
   }
   auto store = hlod::NodeStore::open(args->positionals()[0]);
   if (!store) {

@@ -19,15 +19,19 @@ namespace service::cmd {
 const char* const kRenderUsage =
     "usage: hlodr render [MODEL] -o IMAGE [options]\n"
     "\n"
-    "Renders one frame of MODEL (a mesh file: .obj .ply .off .stl .gltf .glb, or a city folder\n"
-    "written by `hlodr city`) at full detail, and prints the GPU time, the CPU (wall) time and\n"
-    "the triangle count. The image format follows the extension of IMAGE (.png .jpg .exr).\n"
+    "Renders one frame of MODEL (a mesh file: .obj .ply .off .stl .gltf .glb, a CityJSON file:\n"
+    ".city.json .cityjson, or a city folder written by `hlodr city`) at full detail, and prints\n"
+    "the GPU time, the CPU (wall) time and the triangle count. The image format follows the\n"
+    "extension of IMAGE (.png .jpg .exr).\n"
     "\n"
     "options:\n"
     "  -o, --output IMAGE      output image (required)\n"
     "  --camera PX,PY,PZ,TX,TY,TZ   camera position and target in world units\n"
     "                          (default: a three-quarter view from above framing the model)\n"
-    "  --up x|y|z              world up axis (default: z for cities, y for mesh files)\n"
+    "  --up x|y|z              world up axis (default: z for cities and CityJSON, y for mesh\n"
+    "                          files)\n"
+    "  --lod X                 CityJSON: the level of detail to draw, as the file names it (1,\n"
+    "                          2, 2.2 ...; default: each city object at its highest)\n"
     "  --size WxH              frame size in pixels, up to 8192x8192 (default 1280x720)\n"
     "  --fov DEG               vertical field of view in degrees (default 50)\n"
     "  --scene FILE            a scene file (docs/scene.md): the effects, background and\n"
@@ -108,7 +112,7 @@ hlod::Result<std::array<double, 6>> parseCamera(const std::string& s) {
 
 int runRender(const Argv& argv) {
   auto args = parseWithPathRun(argv, {"unlit", "no-textures", "fog", "quiet"},
-                               {"output", "camera", "up", "size", "fov", "path", "scene"});
+                               {"output", "camera", "up", "size", "fov", "path", "scene", "lod"});
   if (!args) {
     std::fprintf(stderr, "hlodr render: %s\n", args.message().c_str());
     return 2;
@@ -167,7 +171,9 @@ int runRender(const Argv& argv) {
     return 2;
   }
 
-  auto scene = loadScene(model, quiet);
+  hlod::ImportOptions importOptions;
+  importOptions.lod = args->get("lod", "");
+  auto scene = loadScene(model, quiet, importOptions);
   if (!scene) {
     std::fprintf(stderr, "hlodr render: %s\n", scene.message().c_str());
     return 1;
