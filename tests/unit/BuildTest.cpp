@@ -476,6 +476,59 @@ TEST(BuildBlocks, APileOfCoincidentTrianglesIsNotMultipliedByTheCuts) {
   }
 }
 
+// A block's sides (where its ground meets its neighbours'): at every level the block still
+// covers its whole footprint, corners included, though the straight runs between the corners may
+// lose vertices. Before the sides were kept, coarse levels of the city cut the corners where
+// streets cross and the sky showed through between the blocks.
+TEST_P(BuildHierarchy, BlockSidesKeepTheFootprintAtEveryLevel) {
+  auto simplifier = makeSimplifier(GetParam());
+  ASSERT_TRUE(simplifier);
+  // Ground with a bumpy middle and a flat, straight border: 10 x 10, z = 0 on the border.
+  Mesh ground = testmesh::wavyGrid(60);
+  for (auto& p : ground.positions)
+    p.z = 0.4 * std::sin(M_PI * p.x / 10.0) * std::sin(M_PI * p.y / 10.0) * std::sin(p.x + p.y);
+  const std::vector<CutPlane> sides = {{0, 0.0}, {0, 10.0}, {1, 0.0}, {1, 10.0}};
+  BuildOptions o;
+  o.desiredTri = 20;
+  const auto nodes = buildBlockHierarchy(ground, o, **simplifier, {}, nullptr, sides);
+  ASSERT_GT(nodes.size(), 4u);
+  // Per level (its nodes and the leaves above it), the footprint's edge seen from above is
+  // covered: points 0.01, 0.05 and 0.2 inside the sides, corners included.
+  std::vector<glm::dvec2> points;
+  for (double in : {0.01, 0.05, 0.2})
+    for (int i = 0; i <= 200; ++i) {
+      const double t = in + (10.0 - 2.0 * in) * i / 200.0;
+      points.insert(points.end(), {{t, in}, {t, 10.0 - in}, {in, t}, {10.0 - in, t}});
+    }
+  std::map<std::uint32_t, std::size_t> triangles;
+  std::map<std::uint32_t, std::vector<glm::dvec3>> levelTriangles;  // three corners each
+  for (const BlockNode& n : nodes) {
+    triangles[n.info.level] += n.mesh.triangleCount();
+    // A leaf stands for its branch at every deeper level too.
+    for (std::uint32_t l = n.info.level; l <= (n.info.childCount ? n.info.level : 16u); ++l)
+      for (std::uint32_t v : n.mesh.indices) levelTriangles[l].push_back(n.mesh.positions[v]);
+  }
+  const std::uint32_t depth = triangles.rbegin()->first;
+  for (const auto& [level, corners] : levelTriangles) {
+    if (level > depth) break;
+    std::size_t uncovered = 0;
+    for (const glm::dvec2& q : points) {
+      bool inside = false;
+      for (std::size_t t = 0; t + 2 < corners.size() && !inside; t += 3) {
+        const glm::dvec2 a(corners[t]), b(corners[t + 1]), c(corners[t + 2]);
+        const double d1 = (b.x - a.x) * (q.y - a.y) - (b.y - a.y) * (q.x - a.x);
+        const double d2 = (c.x - b.x) * (q.y - b.y) - (c.y - b.y) * (q.x - b.x);
+        const double d3 = (a.x - c.x) * (q.y - c.y) - (a.y - c.y) * (q.x - c.x);
+        inside = (d1 >= 0 && d2 >= 0 && d3 >= 0) || (d1 <= 0 && d2 <= 0 && d3 <= 0);
+      }
+      uncovered += !inside;
+    }
+    EXPECT_EQ(uncovered, 0u) << "level " << level << " of " << depth;
+  }
+  // And the root did simplify: the straight runs did not freeze it.
+  EXPECT_LT(triangles[0], ground.triangleCount() / 20);
+}
+
 INSTANTIATE_TEST_SUITE_P(BothSimplifiers, BuildHierarchy, testing::Values("meshopt", "openmesh"));
 
 class BuildSimplifier : public testing::TestWithParam<const char*> {};
@@ -591,7 +644,7 @@ TEST(BuildBlocks, MeshIsCutIntoBoundedBlocksGroupedByMaterial) {
   std::size_t total = 0;
   double area = 0;
   int textured = 0;
-  for (const auto& [b, planes] : blocks) {
+  for (const auto& [b, planes, sides] : blocks) {
     EXPECT_LE(b.triangleCount(), 1000u);
     total += b.triangleCount();
     area += surfaceArea(b);

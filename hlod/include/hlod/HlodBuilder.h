@@ -56,21 +56,27 @@ struct BlockNode {
   std::vector<CutPlane> planes;  // the cutting planes that bound its piece (block's and ancestors')
 };
 
-// A block to build: its triangles and the planes it was cut from its neighbours along.
+// A block to build: its triangles, the planes it was cut from its neighbours along, and its
+// sides: planes where its ground meets a neighbouring block's (a city block's street middles).
+// The outline there is kept at every level, or coarse levels open cracks between the blocks.
 struct Block {
   Mesh mesh;
   std::vector<CutPlane> planes;
+  std::vector<CutPlane> sides;
 };
 
 // Builds the hierarchy of one block in memory (nodes in breadth-first order, the block root first;
 // children contiguous). The block is welded first (weldVertices). An empty block gives no nodes.
-// Vertices on the block's planes and on every cut are locked while simplifying; afterwards the
+// Vertices on the block's planes and on every cut are locked while simplifying, and the open
+// border on its sides keeps its corners (straight runs between them may lose vertices, as
+// kVertexOnOutline says); afterwards the
 // seam vertices of the block's own cuts and of neighbourSeams are inserted into every node's seam
 // edges (see SeamVertices), so no T-junction remains between any two nodes.
 std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions& options,
                                            const Simplifier& simplifier,
                                            const std::vector<CutPlane>& blockPlanes = {},
-                                           const SeamVertices* neighbourSeams = nullptr);
+                                           const SeamVertices* neighbourSeams = nullptr,
+                                           const std::vector<CutPlane>& blockSides = {});
 
 // The seam vertices buildBlockHierarchy would record for this block, found by making the same cuts
 // without simplifying (for blocks that share planes with others).
@@ -106,9 +112,10 @@ class HlodBuilder {
                                                      const BuildOptions& options);
   // Builds the block's subtree and appends its payloads; the block can be freed afterwards.
   // planes: those the block was cut along; neighbourSeams: seam vertices of the blocks sharing
-  // them (planBlockSeams).
+  // them (planBlockSeams); sides: as Block::sides.
   Status addBlock(const Mesh& block, const std::vector<CutPlane>& planes = {},
-                  const SeamVertices* neighbourSeams = nullptr);
+                  const SeamVertices* neighbourSeams = nullptr,
+                  const std::vector<CutPlane>& sides = {});
   // Writes the skeleton and moves the store into place. An Error when no block added a node
   // (nothing to draw): no empty store is written.
   Result<Skeleton> finish(double buildSeconds);

@@ -26,15 +26,23 @@ struct SimplifiedMesh {
   double geometricError = 0.0;  // estimated deviation from the input, world units
 };
 
+// The flags of Simplifier::simplify's `locked`: a vertex kept where it is, or one kept on the
+// block's outline. Edge collapses may slide an outline vertex along a straight run of the open
+// border it lies on (they move open-border vertices only along the border), which keeps the
+// outline exactly; vertex clustering, which would move it off, keeps it in place.
+inline constexpr std::uint8_t kVertexLocked = 1;
+inline constexpr std::uint8_t kVertexOnOutline = 2;
+
 class Simplifier {
  public:
   virtual ~Simplifier() = default;
   virtual const char* name() const = 0;
   // Simplifies toward targetTriangles (may stay above it when locked vertices forbid more, or
   // where reaching it would leave part of the surface farther than errorLimit, world units,
-  // from the result). locked holds one flag per vertex of mesh (or is empty: nothing locked); a
-  // position is locked when any vertex there is. A mesh already at or below the target comes
-  // back unchanged. No kept triangle faces away from the surface it stands for.
+  // from the result). locked holds one flag per vertex of mesh (or is empty: nothing locked):
+  // 0, kVertexLocked or kVertexOnOutline; a position takes the strongest flag of its vertices. A
+  // mesh already at or below the target comes back unchanged. No kept triangle faces away from the
+  // surface it stands for.
   SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles,
                           const std::vector<std::uint8_t>& locked = {},
                           double errorLimit = std::numeric_limits<double>::infinity()) const;
@@ -43,7 +51,7 @@ class Simplifier {
   struct Shape {
     std::vector<glm::dvec3> positions;
     std::vector<std::uint32_t> indices;  // no repeated vertex in a triangle
-    std::vector<std::uint8_t> locked;    // one flag per position
+    std::vector<std::uint8_t> locked;  // one flag per position (0, kVertexLocked, kVertexOnOutline)
   };
   struct ReducedShape {
     std::vector<std::uint32_t> indices;  // kept triangles, indices into Shape::positions

@@ -7,10 +7,12 @@
 #include <cmath>
 #include <deque>
 #include <map>
+#include <unordered_map>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include "build/SimplifierImpl.h"
 #include "hlod/City.h"
 #include "hlod/PlaneSplit.h"
 
@@ -57,6 +59,53 @@ std::vector<std::uint8_t> cutVertices(const Mesh& piece, const std::vector<CutPl
     for (const CutPlane& plane : planes)
       if (plane.contains(piece.positions[v])) locked[v] = 1;
   return locked;
+}
+
+// Adds the outline flags of the piece's vertices on the block's sides: kVertexOnOutline on a
+// straight run of the open border there (or off the border: a kerb face lying in the side),
+// kVertexLocked at a corner of it, where a collapse would cut the corner off and open a crack.
+void markOutline(const Mesh& piece, const std::vector<CutPlane>& sides,
+                 std::vector<std::uint8_t>& flags) {
+  if (sides.empty()) return;
+  std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> id;
+  std::vector<glm::dvec3> at;
+  std::vector<std::uint32_t> idOf(piece.positions.size());
+  for (std::size_t v = 0; v < piece.positions.size(); ++v) {
+    auto [it, fresh] =
+        id.try_emplace(piece.positions[v] + glm::dvec3(0.0), std::uint32_t(at.size()));
+    if (fresh) at.push_back(piece.positions[v]);
+    idOf[v] = it->second;
+  }
+  std::unordered_map<std::uint64_t, int> edgeUses;
+  for (std::size_t i = 0; i + 2 < piece.indices.size(); i += 3)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = idOf[piece.indices[i + k]], b = idOf[piece.indices[i + (k + 1) % 3]];
+      if (a != b) ++edgeUses[(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
+    }
+  std::vector<std::vector<std::uint32_t>> borderNeighbours(at.size());
+  for (const auto& [key, uses] : edgeUses) {
+    if (uses != 1) continue;
+    const auto a = std::uint32_t(key >> 32), b = std::uint32_t(key & 0xffffffffu);
+    borderNeighbours[a].push_back(b);
+    borderNeighbours[b].push_back(a);
+  }
+  for (std::size_t v = 0; v < piece.positions.size(); ++v) {
+    if (flags[v] == kVertexLocked) continue;
+    const glm::dvec3& p = piece.positions[v];
+    const CutPlane* side = nullptr;
+    int n = 0;
+    for (const CutPlane& c : sides)
+      if (c.contains(p) && n++ == 0) side = &c;
+    if (n == 0) continue;
+    const auto& nb = borderNeighbours[idOf[v]];
+    bool straight = n == 1 && (nb.empty() || nb.size() == 2);
+    if (straight && nb.size() == 2) {
+      const glm::dvec3 d0 = at[nb[0]] - p, d1 = at[nb[1]] - p;
+      straight = side->contains(at[nb[0]]) && side->contains(at[nb[1]]) && glm::dot(d0, d1) < 0.0 &&
+                 glm::length(glm::cross(d0, d1)) <= 1e-9 * glm::length(d0) * glm::length(d1);
+    }
+    flags[v] = straight ? kVertexOnOutline : kVertexLocked;
+  }
 }
 
 // The error a node with simplification factor s may have: the spacing of its level's triangles
@@ -135,7 +184,8 @@ SeamVertices planBlockSeams(const Mesh& block, const BuildOptions& options,
 std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions& options,
                                            const Simplifier& simplifier,
                                            const std::vector<CutPlane>& blockPlanes,
-                                           const SeamVertices* neighbourSeams) {
+                                           const SeamVertices* neighbourSeams,
+                                           const std::vector<CutPlane>& blockSides) {
   std::vector<BlockNode> nodes;
   Mesh welded = weldVertices(block);
   if (welded.triangleCount() == 0) return nodes;
@@ -173,9 +223,10 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
     if (inner) {
       const auto target =
           std::max<std::size_t>(1, std::size_t(std::llround(double(piece.triangleCount()) / s)));
+      std::vector<std::uint8_t> locked = cutVertices(piece, nodes[i].planes);
+      markOutline(piece, blockSides, locked);
       SimplifiedMesh simplified =
-          simplifier.simplify(piece, target, cutVertices(piece, nodes[i].planes),
-                              errorLimit(blockArea, blockTriangles, s));
+          simplifier.simplify(piece, target, locked, errorLimit(blockArea, blockTriangles, s));
       nodes[i].mesh = std::move(simplified.mesh);
       nodes[i].info.geometricError = simplified.geometricError;
       nodes[i].cutAxis = c.slabs.axis;
@@ -246,7 +297,7 @@ void splitUntilSmall(Mesh mesh, std::vector<CutPlane> planes, std::size_t maxTri
   const int axis = longestAxis(box);
   // Depth bound: triangles piled at one point cannot be separated by any plane.
   if (mesh.triangleCount() <= maxTriangles || depth >= 48 || !(box.size()[axis] > 0.0)) {
-    out.push_back({std::move(mesh), std::move(planes)});
+    out.push_back({std::move(mesh), std::move(planes), {}});
     return;
   }
   const CutPlane cut{axis, box.centre()[axis]};
@@ -255,7 +306,7 @@ void splitUntilSmall(Mesh mesh, std::vector<CutPlane> planes, std::size_t maxTri
   const std::size_t below = halves.below.triangleCount(), above = halves.above.triangleCount();
   const std::size_t added = below + above - std::min(below + above, whole);
   if (added > spare) {
-    out.push_back({std::move(mesh), std::move(planes)});
+    out.push_back({std::move(mesh), std::move(planes), {}});
     return;
   }
   spare -= added;
@@ -380,10 +431,11 @@ Result<std::unique_ptr<HlodBuilder>> HlodBuilder::create(const std::filesystem::
 }
 
 Status HlodBuilder::addBlock(const Mesh& block, const std::vector<CutPlane>& planes,
-                             const SeamVertices* neighbourSeams) {
+                             const SeamVertices* neighbourSeams,
+                             const std::vector<CutPlane>& sides) {
   inputTriangles_ += block.triangleCount();
   std::vector<BlockNode> local =
-      buildBlockHierarchy(block, options_, *simplifier_, planes, neighbourSeams);
+      buildBlockHierarchy(block, options_, *simplifier_, planes, neighbourSeams, sides);
   if (local.empty()) return Ok{};
   if (skeleton_.nodes.size() + local.size() >= kNoNode) return makeError("too many nodes");
   const auto base = std::uint32_t(skeleton_.nodes.size());
@@ -479,10 +531,16 @@ Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
     // A city block is one texture already; split only blocks over the bound.
     Model one;
     one.meshes.push_back(std::move(*block));
-    const std::vector<Block> parts = cutIntoBlocks(one, options.maxBlockTriangles);
+    std::vector<Block> parts = cutIntoBlocks(one, options.maxBlockTriangles);
+    // A city block's sides (the middles of its streets, on its box) meet its neighbours' ground.
+    const Aabb box = one.bounds();
+    for (Block& part : parts)
+      for (int axis = 0; axis < 2; ++axis)
+        for (double v : {box.min[axis], box.max[axis]}) part.sides.push_back({axis, v});
     const SeamVertices seams = planSeams(parts, options);
     for (const Block& part : parts) {
-      if (auto s = (*builder)->addBlock(part.mesh, part.planes, &seams); !s) return s.error();
+      if (auto s = (*builder)->addBlock(part.mesh, part.planes, &seams, part.sides); !s)
+        return s.error();
       p.trianglesDone += part.mesh.triangleCount();
     }
     ++p.blocksDone;

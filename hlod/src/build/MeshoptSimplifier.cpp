@@ -38,7 +38,7 @@ class MeshoptSimplifier final : public Simplifier {
     // or more attribute "wedges" (vertices at its position). Two unreferenced copies of each
     // locked vertex make it one; they take no part in any triangle.
     for (std::size_t v = 0; v < shape.positions.size(); ++v) {
-      if (!shape.locked[v]) continue;
+      if (shape.locked[v] != kVertexLocked) continue;
       push(shape.positions[v]);
       push(shape.positions[v]);
     }

@@ -62,7 +62,7 @@ class OpenMeshSimplifier final : public Simplifier {
       const glm::dvec3 p = shape.positions[i] - centre;
       vh[i] = om.add_vertex(OmMesh::Point(p.x, p.y, p.z));
       om.property(source, vh[i]) = std::uint32_t(i);
-      if (shape.locked[i]) om.status(vh[i]).set_locked(true);
+      if (shape.locked[i] == kVertexLocked) om.status(vh[i]).set_locked(true);
     }
     // Triangles OpenMesh rejects (non-manifold) are kept as they are, beside the decimated mesh.
     std::vector<std::uint32_t> rejected;

@@ -57,7 +57,7 @@ std::uint32_t nearestUnlocked(const Simplifier::Shape& shape,
   std::uint32_t best = 0xffffffffu;
   double bestD = std::numeric_limits<double>::max();
   for (std::uint32_t v : used) {
-    if (shape.locked[v]) continue;
+    if (shape.locked[v] == kVertexLocked) continue;
     const glm::dvec3 d = shape.positions[v] - p;
     if (glm::dot(d, d) < bestD) bestD = glm::dot(d, d), best = v;
   }
@@ -120,7 +120,7 @@ Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size
            shape.positions[r.indices[3 * t + 2]]) /
           3.0;
       const std::uint32_t v = nearestUnlocked(work, used, c);
-      if (v != 0xffffffffu) work.locked[v] = 1, ++locks;
+      if (v != 0xffffffffu) work.locked[v] = kVertexLocked, ++locks;
     }
     // Lost surface, the farthest first: the corner of the sample's triangle nearest to it.
     std::sort(lost.begin(), lost.end(),
@@ -135,9 +135,9 @@ Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t v = shape.indices[3 * std::size_t(x.triangle) + k];
         const double d = glm::length(shape.positions[v] - x.point);
-        if (!work.locked[v] && d < bestD) bestD = d, best = v;
+        if (work.locked[v] != kVertexLocked && d < bestD) bestD = d, best = v;
       }
-      if (best != 0xffffffffu) work.locked[best] = 1, ++holeLocks;
+      if (best != 0xffffffffu) work.locked[best] = kVertexLocked, ++holeLocks;
     }
     locks += holeLocks;
     if (locks == 0) break;

@@ -80,7 +80,8 @@ SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangle
         posLocked.push_back(0);
       }
       posOf[v] = it->second;
-      if (v < locked.size() && locked[v]) posLocked[it->second] = 1;
+      if (v < locked.size() && locked[v] && posLocked[it->second] != kVertexLocked)
+        posLocked[it->second] = locked[v];
     }
   }
   // Triangles on positions; cornerVertex[c] is the input vertex at corner c.
