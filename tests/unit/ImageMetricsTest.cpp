@@ -426,6 +426,19 @@ TEST(ImageMetrics, CoverageDifferenceOfMismatchedOrMalformedMasksIsAnError) {
   EXPECT_FALSE(coverageDifference(Mask{}, Mask{}).ok());
 }
 
+TEST(ImageMetrics, CoverageMapShowsHolesRedShardsCyanAndTheRestDimmed) {
+  const Mask reference{3, 1, {1, 1, 0}};
+  const Mask test{3, 1, {1, 0, 1}};
+  const Image frame{3, 1, {200, 100, 50, 255, 7, 7, 7, 255, 9, 9, 9, 255}};
+  const Result<Image> map = coverageMap(frame, reference, test);
+  ASSERT_TRUE(map.ok()) << map.message();
+  EXPECT_EQ(map->pixels, (std::vector<std::uint8_t>{100, 50, 25, 255,     // both: dimmed
+                                                    255, 0, 0, 255,       // hole
+                                                    0, 255, 255, 255}));  // shard
+  EXPECT_FALSE(coverageMap(Image{2, 1, std::vector<std::uint8_t>(8, 0)}, reference, test).ok());
+  EXPECT_FALSE(coverageMap(frame, reference, Mask{2, 1, {1, 1}}).ok());
+}
+
 // --- Heat map --------------------------------------------------------------------------------
 
 TEST(ImageMetrics, ErrorHeatMapRunsFromDarkToBrightAndClampsOutOfRangeValues) {

@@ -53,4 +53,23 @@ Result<double> coverageDifference(const Mask& reference, const Mask& test) {
   return static_cast<double>(differing) / static_cast<double>(reference.covered.size());
 }
 
+Result<Image> coverageMap(const Image& frame, const Mask& reference, const Mask& test) {
+  if (auto d = coverageDifference(reference, test); !d) return d.error();
+  if (frame.width != test.width || frame.height != test.height ||
+      frame.pixels.size() != test.covered.size() * 4)
+    return makeError("coverage: the frame is not the masks' size");
+  Image out = frame;
+  for (std::size_t i = 0; i < test.covered.size(); ++i) {
+    std::uint8_t* p = &out.pixels[i * 4];
+    const bool ref = reference.covered[i] != 0, got = test.covered[i] != 0;
+    const std::array<std::uint8_t, 3> rgb =
+        ref == got ? std::array<std::uint8_t, 3>{std::uint8_t(p[0] / 2), std::uint8_t(p[1] / 2),
+                                                 std::uint8_t(p[2] / 2)}
+        : ref      ? std::array<std::uint8_t, 3>{255, 0, 0}
+                   : std::array<std::uint8_t, 3>{0, 255, 255};
+    p[0] = rgb[0], p[1] = rgb[1], p[2] = rgb[2], p[3] = 255;
+  }
+  return out;
+}
+
 }  // namespace hlod::metrics

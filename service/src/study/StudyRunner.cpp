@@ -32,6 +32,7 @@ struct Measured {
   FrameResult result;
   hlod::Image image;
   std::vector<float> flipMap;
+  hlod::metrics::Mask coverage;
 };
 
 }  // namespace
@@ -163,7 +164,8 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
         auto p = hlod::metrics::psnr(ref, m.image);
         auto ss = hlod::metrics::ssim(ref, m.image);
         auto fm = hlod::metrics::flipMap(ref, m.image);
-        auto cov = hlod::metrics::coverageDifference(refMasks[next], (*s)->coverage());
+        hlod::metrics::Mask mask = (*s)->coverage();
+        auto cov = hlod::metrics::coverageDifference(refMasks[next], mask);
         if (!p || !ss || !fm || !cov)
           return hlod::makeError("metrics failed on frame " + std::to_string(f));
         r.psnr = std::min(*p, kMaxPsnr);
@@ -181,6 +183,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
         if (c.selector == "lakhia" && c.mode == hlod::FrameMode::Settled &&
             std::find(stripAt.begin(), stripAt.end(), next) != stripAt.end()) {
           m.flipMap = std::move(*fm);
+          m.coverage = std::move(mask);
           stripCells[{next, c.budgetMs}] = std::move(m);
         }
         ++next;
@@ -207,6 +210,13 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
       const Measured& m = stripCells[{k, b}];
       cells.push_back(hlod::metrics::errorHeatMap(m.flipMap, m.image.width, m.image.height));
     }
+    cells.push_back({});
+    for (double b : budgets) {
+      const Measured& m = stripCells[{k, b}];
+      auto map = hlod::metrics::coverageMap(m.image, refMasks[k], m.coverage);
+      if (!map) return map.error();
+      cells.push_back(std::move(*map));
+    }
     const int cw = std::min(o.width, 320), ch = std::max(1, cw * o.height / o.width);
     const hlod::Image grid = composeGrid(cells, int(budgets.size()) + 1, cw, ch);
     auto png = renderer::encodePng(grid);
@@ -218,7 +228,10 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
                           " (t = " + std::to_string(report.reference[k].time).substr(0, 5) +
                           " s). Top: full detail, then Lakhia at";
     for (double b : budgets) caption += " " + std::to_string(int(b)) + " ms";
-    caption += ". Bottom: FLIP error against full detail (black none, yellow most).";
+    caption +=
+        ". Middle: FLIP error against full detail (black none, yellow most). Bottom: "
+        "where the silhouettes differ (red: a hole, sky where full detail has geometry; "
+        "cyan: a shard).";
     report.stripCaptions.push_back(caption);
   }
   if (auto w = writeStudyReport(outDir, report); !w) return w.error();

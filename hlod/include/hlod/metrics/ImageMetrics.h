@@ -70,6 +70,12 @@ Mask backgroundMask(const Image& image, std::array<std::uint8_t, 3> background, 
 // masks are complements). Masks must have equal, non-zero sizes and width * height bytes.
 Result<double> coverageDifference(const Mask& reference, const Mask& test);
 
+// Where two silhouettes differ, over the test frame dimmed to half: red where the reference shows
+// geometry and the test frame does not (a hole: sky or the underside shows through), cyan where
+// the test frame shows geometry that the reference does not (a shard). Same rules as
+// coverageDifference for the masks; the frame must be their size.
+Result<Image> coverageMap(const Image& frame, const Mask& reference, const Mask& test);
+
 // A heat map of perPixel (width * height values, row 0 at the top) through matplotlib's magma
 // colour map (perceptually uniform: black-purple for 0 to pale yellow for 1). Values are clamped
 // to [0, 1]; NaN shows as 1. Opaque. A perPixel of the wrong size or a non-positive size gives an
