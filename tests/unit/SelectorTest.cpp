@@ -344,7 +344,12 @@ TEST(LakhiaSelector, StillCameraSettlesAndNeverFlickers) {
   p.lakhia.vTimeInitial = 2e-5;  // the simulated GPU's value: no convergence phase
   const View v = overview(sk);
   int lateAll = 0, quietSequences = 0;
-  for (unsigned seed : {42u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 10u, 11u}) {
+#ifdef HLODR_SANITIZE_BUILD
+  const std::vector<unsigned> seeds = {42u, 1u, 2u, 3u};  // four sequences are the same test
+#else
+  const std::vector<unsigned> seeds = {42u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 10u, 11u};
+#endif
+  for (unsigned seed : seeds) {
     LakhiaSelector sel(sk, p);
     SimulatedGpu gpu;
     gpu.rng.seed(seed);
@@ -374,8 +379,9 @@ TEST(LakhiaSelector, StillCameraSettlesAndNeverFlickers) {
     lateAll += late;
     quietSequences += late == 0;
   }
-  EXPECT_LT(lateAll, 60);
-  EXPECT_GE(quietSequences, 6);  // most sequences have no toggle at all in the last 300 frames
+  EXPECT_LT(lateAll, 5 * int(seeds.size()));
+  // Most sequences have no toggle at all in the last 300 frames.
+  EXPECT_GE(quietSequences, int(seeds.size()) / 2);
 }
 
 TEST(LakhiaSelector, TogglesCountRefinementsAndCoarsenings) {

@@ -65,7 +65,12 @@ TEST_P(SimplifierShape, NoSimplifiedTriangleFacesAwayFromTheSurfaceItStandsFor) 
   ASSERT_TRUE(simplifier);
   for (const ShapeCase& c : kShapes) {
     const Mesh mesh = c.make();
-    for (std::size_t divisor : {4, 16, 64, 256}) {
+#ifdef HLODR_SANITIZE_BUILD
+    const std::size_t divisors[] = {16, 256};
+#else
+    const std::size_t divisors[] = {4, 16, 64, 256};
+#endif
+    for (std::size_t divisor : divisors) {
       const std::size_t target = std::max<std::size_t>(12, mesh.triangleCount() / divisor);
       const Measured m = simplifyAndMeasure(**simplifier, mesh, target);
       EXPECT_EQ(m.facing.flipped, 0u)
