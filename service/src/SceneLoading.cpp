@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "hlod/City.h"
+#include "hlod/Framing.h"
 #include "hlod/Import.h"
 #include "renderer/GpuNodeRenderer.h"
 
@@ -30,7 +31,7 @@ hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quie
     }
     if (progress) std::fprintf(stderr, "\n");
     scene.isCity = true;
-    scene.up = {0.0, 0.0, 1.0};
+    scene.up = hlod::UpAxis::Z;
     return scene;
   }
   if (std::filesystem::is_directory(path, ec))
@@ -38,40 +39,19 @@ hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quie
   auto model = hlod::importModel(path, options);
   if (!model) return model.error();
   for (const auto& w : model->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  scene.up = model->zUp ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(0.0, 1.0, 0.0);
+  scene.up = hlod::upAxisOf(*model);
   scene.model = std::move(*model);
   return scene;
 }
 
-CameraPose defaultCamera(const hlod::Aabb& bounds, const glm::dvec3& up, double fovY,
-                         double aspect) {
+CameraPose defaultCamera(const hlod::Aabb& bounds, hlod::UpAxis up, double fovY, double aspect) {
+  const hlod::Camera framed =
+      hlod::frameBounds(bounds, up, hlod::defaultViewDirection(up), fovY, aspect);
   CameraPose cam;
-  cam.up = up;
-  cam.fovY = fovY;
-  cam.target = bounds.centre();
-  const double radius = std::max(glm::length(bounds.size()) * 0.5, 1e-6);
-  // A three-quarter view from above: most of the model shows, and so do its facades.
-  const glm::dvec3 dir = up.z > 0.5 ? glm::normalize(glm::dvec3(-0.55, -1.0, 0.8))
-                                    : glm::normalize(glm::dvec3(0.6, 0.55, 1.0));
-  // Tightest distance along dir at which all eight corners of the box lie inside the frustum:
-  // a corner r (relative to the target) at lateral offsets x, y and depth d - r.dir needs
-  // d >= r.dir + |x| / tan(halfFovX) and d >= r.dir + |y| / tan(halfFovY).
-  const double tanY = std::tan(glm::radians(fovY) * 0.5), tanX = tanY * aspect;
-  glm::dvec3 right = glm::cross(-dir, up);
-  right = glm::length(right) > 1e-9 ? glm::normalize(right) : glm::dvec3(1, 0, 0);
-  const glm::dvec3 upView = glm::cross(right, -dir);
-  double distance = radius * 1e-3;
-  for (int i = 0; i < 8; ++i) {
-    const glm::dvec3 corner((i & 1) ? bounds.max.x : bounds.min.x,
-                            (i & 2) ? bounds.max.y : bounds.min.y,
-                            (i & 4) ? bounds.max.z : bounds.min.z);
-    const glm::dvec3 r = corner - cam.target;
-    const double along = glm::dot(r, dir);
-    distance = std::max({distance, along + std::abs(glm::dot(r, right)) / tanX,
-                         along + std::abs(glm::dot(r, upView)) / tanY});
-  }
-  distance *= 1.05;  // a small margin
-  cam.position = cam.target + dir * distance;
+  cam.position = framed.position;
+  cam.target = framed.target;
+  cam.up = framed.up;
+  cam.fovY = framed.fovY;
   return cam;
 }
 

@@ -93,6 +93,7 @@ hlod::Status Session::init(renderer::GlContext& context) {
   ro.width = options_.width;
   ro.height = options_.height;
   ro.effects = options_.effects;
+  ro.up = hlod::upVector(skel.up);  // sky, hemisphere light and shadow map stand on it
   auto r = renderer::GpuNodeRenderer::create(*context_, skel, ro);
   if (!r) return r.error();
   renderer_ = std::move(*r);

@@ -42,6 +42,11 @@ void checkGuarantees(const hlod::DecodedSkeleton& d) {
   if (!(s.params.levelFactor >= 2 && s.params.levelFactor <= 64) || s.params.desiredTri < 1 ||
       !(s.params.cTex >= 0 && s.params.cTex <= 1) || !std::isfinite(d.facts.buildSeconds))
     std::abort();
+  // The model frame reaches camera paths and the terminal (`hlodr info`).
+  if (static_cast<std::uint32_t>(s.up) > 2 || s.crs.description.size() > hlod::kMaxCrsDescription)
+    std::abort();
+  for (const unsigned char c : s.crs.description)
+    if (c < 0x20 || c >= 0x7f) std::abort();
 }
 
 }  // namespace

@@ -157,13 +157,20 @@ def node(parent, first, count, level, payload_off, payload_size, memory):
     b += struct.pack("<2I", 12, 0) + struct.pack("<2d", 1.5, 3.0) + struct.pack("<3f", 0, 0, 1)
     b += struct.pack("<d", 0.25) + struct.pack("<2Q", payload_off, payload_size)
     b += struct.pack("<I", 0x12345678) + struct.pack("<Q", memory)
+    b += struct.pack("<QIQ", 0, 0, 0)  # no texture section
     return b
 
 
-def skeleton(nodes, roots, payload_bytes, name=b"meshopt"):
-    b = b"HLODSKEL" + struct.pack("<II", 2, 0x01020304)
+def frame(up=2, epsg=0, to_enu=0, origin=(0.0, 0.0, 0.0), text=b""):
+    b = struct.pack("<IiI", up, epsg, to_enu) + struct.pack("<3d", *origin)
+    return b + struct.pack("<I", len(text)) + text
+
+
+def skeleton(nodes, roots, payload_bytes, name=b"meshopt", model_frame=frame()):
+    b = b"HLODSKEL" + struct.pack("<II", 4, 0x01020304)
     b += struct.pack("<dId", 3.0, 2000, 0.1) + struct.pack("<I", len(name)) + name
-    b += struct.pack("<QIdQII", 24, 1, 0.5, payload_bytes, len(nodes), len(roots))
+    b += struct.pack("<QIdQ", 24, 1, 0.5, payload_bytes) + model_frame
+    b += struct.pack("<II", len(nodes), len(roots))
     b += b"".join(nodes) + b"".join(struct.pack("<I", r) for r in roots)
     return b + struct.pack("<Q", 0)  # checksum: the target computes it
 
@@ -173,7 +180,10 @@ put("skeleton", "one-node.bin", skeleton([node(NO, 0, 0, 0, 0, 100, 400)], [0], 
 put("skeleton", "tree.bin", skeleton(
     [node(NO, 2, 2, 0, 0, 100, 400), node(NO, 0, 0, 0, 100, 50, 200),
      node(0, 0, 0, 1, 150, 60, 300), node(0, 4, 1, 1, 210, 70, 300), node(3, 0, 0, 2, 280, 20, 80)],
-    [0, 1], 300, name=b"openmesh"))
+    [0, 1], 300, name=b"openmesh",
+    model_frame=frame(2, 4979, 1, (51.9, 4.46, 2.0), b"EPSG:4979 (geographic): converted to east-north-up metres")))
+put("skeleton", "y-up.bin", skeleton([node(NO, 0, 0, 0, 0, 100, 400)], [0], 100,
+                                     model_frame=frame(up=1)))
 
 
 # --- node payloads: the raw form, and "u32 decoded size + raw DEFLATE" as payload.bin holds it ---

@@ -118,14 +118,16 @@ TEST_F(HlodrCli, GeneratesAndRendersASmallCity) {
   ASSERT_EQ(r.status, 0) << r.output;
   auto img = hlod::loadImage(path("city.png"));
   ASSERT_TRUE(img);
-  // Geometry covers a good part of the frame: many pixels differ from the background.
+  // Geometry covers a good part of the frame: many pixels differ from the background. The
+  // default view frames the bounding sphere (hlod::frameBounds), which for this flat city two
+  // blocks long leaves about 6% of the pixels covered (framing the box's corners gave over 10%).
   int covered = 0;
   for (int y = 0; y < img->height; ++y)
     for (int x = 0; x < img->width; ++x) {
       const auto p = gltest::pixel(*img, x, y);
       covered += std::abs(p.r - 179) + std::abs(p.g - 204) + std::abs(p.b - 230) > 30;
     }
-  EXPECT_GT(covered, img->width * img->height / 10);
+  EXPECT_GT(covered, img->width * img->height / 25);
 }
 
 TEST_F(HlodrCli, RenderTakesASceneFileAndNamesTheFieldOfABadOne) {

@@ -23,11 +23,14 @@
 // format is unchanged: old paths read as before and sample differently only where the limits
 // apply.
 //
-// Generators from a Skeleton (the hlod_0 boxes of the blocks; Z up, metres):
+// Generators from a Skeleton (the hlod_0 boxes of the blocks):
 //   "walk-fly": ground-level walk (1.7 m eye height) along a street, rising into a fly-over of
-//               the whole model (Lakhia Fig. 7), 35 s;
-//   "drive":    a loop along streets at 1.5 m height and ~17 m/s, 20-40 s;
-//   "orbit":    any model: a circle around the bounds centre at a distance that frames it, 30 s.
+//               the whole model (Lakhia Fig. 7), 35 s; z-up cities in metres only;
+//   "drive":    a loop along streets at 1.5 m height and ~17 m/s, 20-40 s; z-up cities only;
+//   "orbit":    any model: a circle around the skeleton's up axis through the bounds centre,
+//               30 degrees above it, at the distance that frames the bounding sphere
+//               (framingDistance), keyframe up = the model's up, 30 s.
+// A city kind on a store that is not z-up is an Error naming the kind and suggesting orbit.
 // Streets are the gaps between the blocks' boxes projected on X and on Y; a model without gaps
 // uses lines just outside its bounds.
 #include <cstdint>
@@ -105,8 +108,9 @@ class CameraPath {
 
 Result<CameraPath> makeWalkFlyPath(const Skeleton& skeleton);
 Result<CameraPath> makeDrivePath(const Skeleton& skeleton);
+// aspect: the width / height the path is meant for (a portrait frame moves the camera back).
 Result<CameraPath> makeOrbitPath(const Skeleton& skeleton, double duration = 30.0,
-                                 double fovY = 60.0);
+                                 double fovY = 60.0, double aspect = 16.0 / 9.0);
 // "walk-fly", "drive" or "orbit".
 Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton);
 // The same keyframes with their times scaled about the start so that the path lasts `seconds`.

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,8 @@ struct BuildOptions {
   std::string simplifier = "meshopt";             // "meshopt" or "openmesh"
   double cTex = kDefaultCTex;                     // c_tex of eq. 1
   std::size_t maxBlockTriangles = kDefaultMaxBlockTriangles;
+  // The store's up axis whatever the input's convention (upAxisOf; a city folder: Z).
+  std::optional<UpAxis> up;
 };
 
 // One node of a block's hierarchy, as built in memory (world coordinates, double).
@@ -110,6 +113,9 @@ class HlodBuilder {
  public:
   static Result<std::unique_ptr<HlodBuilder>> create(const std::filesystem::path& dir,
                                                      const BuildOptions& options);
+  // The model's up axis (options.up wins over it) and CRS, stored in the skeleton; without a
+  // call the store is Z up (or options.up) with no CRS, as a city folder is.
+  void setModelFrame(UpAxis up, const ModelCrs& crs);
   // Builds the block's subtree and appends its payloads; the block can be freed afterwards.
   // planes: those the block was cut along; neighbourSeams: seam vertices of the blocks sharing
   // them (planBlockSeams); sides: as Block::sides.
@@ -132,7 +138,8 @@ class HlodBuilder {
   std::uint32_t blockCount_ = 0;
 };
 
-// Builds a store from a model in memory (cut into blocks first).
+// Builds a store from a model in memory (cut into blocks first); its up axis is options.up or
+// else upAxisOf(model), its CRS model.crs.
 Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::path& dir,
                                      const BuildOptions& options,
                                      const BuildProgressFn& progress = {});

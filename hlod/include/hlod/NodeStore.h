@@ -4,8 +4,11 @@
 //   whole. payload.bin   the node payloads, one after another, each compressed with raw DEFLATE
 //   (a third of the bytes to read on the default city), read on demand in chunks with pread.
 // Formats (little-endian; each versioned, every count and offset bounds-checked on read):
-//   skeleton.bin: "HLODSKEL", u32 version, u32 0x01020304, build params, store facts, node
-//     records, root list, then a 64-bit FNV-1a of all preceding bytes.
+//   skeleton.bin: "HLODSKEL", u32 version, u32 0x01020304, build params, store facts, the model
+//     frame (u32 up axis 0/1/2 for x/y/z, i32 EPSG code, u32 toEnu 0/1, f64 origin lat, lon,
+//     height, u32 n, n bytes of printable ASCII CRS description, n <= kMaxCrsDescription),
+//     node records, root list, then a 64-bit FNV-1a of all preceding bytes. Version 4 added the
+//     model frame; other versions are refused with "rebuild it" (stores are derived data).
 //   payload: u32 "HLPL", u32 version, u32 vertexCount, u32 indexCount, u32 flags (1: texCoords,
 //     2: one-sided), u32 texWidth, u32 texHeight, f32 baseColor[4], f32 positions[3 vc] (relative
 //     to the node's centre), f32 normals[3 vc], f32 texCoords[2 vc] (if flagged), u32
@@ -27,7 +30,8 @@
 
 namespace hlod {
 
-constexpr std::uint32_t kSkeletonFormatVersion = 3;
+constexpr std::uint32_t kSkeletonFormatVersion = 4;
+constexpr std::uint32_t kMaxCrsDescription = 256;  // bytes of ModelCrs::description kept
 constexpr std::uint32_t kPayloadFormatVersion = 2;
 
 // Facts about a whole store, beside the Skeleton.
@@ -59,7 +63,9 @@ Result<std::vector<std::byte>> inflatePayload(std::span<const std::byte> stored,
 // [firstChild, firstChild + childCount) lie after their parent and inside nodes, each child's
 // parent and level agree with it, roots are exactly the parentless nodes, payloads lie inside
 // payload.bin, every double is finite, levelFactor is in [2, 64], c_tex in [0, 1], desiredTri
-// at least 1 and the build time finite and not negative.
+// at least 1, the build time finite and not negative, the up axis x, y or z, and the CRS
+// description printable ASCII (the encoder replaces other bytes by '?' and cuts it to
+// kMaxCrsDescription bytes).
 std::vector<std::byte> encodeSkeleton(const Skeleton& skeleton, const StoreFacts& facts);
 struct DecodedSkeleton {
   Skeleton skeleton;

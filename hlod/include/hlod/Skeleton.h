@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "hlod/Mesh.h"
+#include "hlod/UpAxis.h"
 
 namespace hlod {
 
@@ -51,6 +52,11 @@ struct Skeleton {
   std::vector<NodeInfo> nodes;
   std::vector<std::uint32_t> roots;  // the hlod_0 nodes, one per block
   BuildParams params;
+  // What the input declared about its world: the axis it stands on (camera paths and default
+  // views circle it) and its coordinate reference system (for `hlodr info`; never consulted by
+  // the runtime). Z up by default: a city folder's blocks are metres with Z up.
+  UpAxis up = UpAxis::Z;
+  ModelCrs crs;
 
   bool isLeaf(std::uint32_t n) const { return nodes[n].childCount == 0; }
 };

@@ -427,7 +427,13 @@ Result<std::unique_ptr<HlodBuilder>> HlodBuilder::create(const std::filesystem::
   b->skeleton_.params.desiredTri = options.desiredTri;
   b->skeleton_.params.cTex = options.cTex;
   b->skeleton_.params.simplifier = options.simplifier;
+  if (options.up) b->skeleton_.up = *options.up;
   return b;
+}
+
+void HlodBuilder::setModelFrame(UpAxis up, const ModelCrs& crs) {
+  skeleton_.up = options_.up.value_or(up);
+  skeleton_.crs = crs;
 }
 
 Status HlodBuilder::addBlock(const Mesh& block, const std::vector<CutPlane>& planes,
@@ -496,6 +502,7 @@ Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::
   const auto t0 = std::chrono::steady_clock::now();
   auto builder = HlodBuilder::create(dir, options);
   if (!builder) return builder.error();
+  (*builder)->setModelFrame(upAxisOf(model), model.crs);
   std::vector<Block> blocks = cutIntoBlocks(model, options.maxBlockTriangles);
   BuildProgress p;
   p.blockCount = blocks.size();

@@ -12,6 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hlod/Framing.h"
+
 namespace hlod {
 
 namespace {
@@ -361,35 +363,50 @@ std::vector<CameraSample> CameraPath::sampleAt(double fps, double aspect,
   return out;
 }
 
-Result<CameraPath> makeOrbitPath(const Skeleton& sk, double duration, double fovY) {
+Result<CameraPath> makeOrbitPath(const Skeleton& sk, double duration, double fovY, double aspect) {
   const Aabb b = rootBounds(sk);
   if (b.empty()) return makeError("orbit path: the model has no hlod_0 bounds");
   if (!(duration > 0.0)) duration = 30.0;
+  fovY = std::clamp(fovY, 1.0, 170.0);
+  if (!(aspect > 0.0)) aspect = 16.0 / 9.0;
   const glm::dvec3 c = b.centre();
   const double r = std::max(1e-3, 0.5 * glm::length(b.size()));
-  // The bounding sphere fills the vertical field of view with 10% margin.
-  const double dist = 1.1 * r / std::sin(glm::radians(std::clamp(fovY, 1.0, 170.0)) * 0.5);
+  const double dist = framingDistance(r, fovY, aspect);
   const double elevation = glm::radians(30.0);
   std::vector<CameraKeyframe> keys;
-  // Keyframes every 7.5 degrees, four of them at the circle's extremes in X and Y: the spline
-  // never passes beyond its keyframes' coordinates, so the extremes must be keyframes, and at
-  // this spacing the radius stays within 1e-5 and the speed within 0.3% of the circle's.
+  // Keyframes every 7.5 degrees around the up axis, four of them at the circle's extremes along
+  // the two horizontal axes: the spline never passes beyond its keyframes' coordinates, so the
+  // extremes must be keyframes, and at this spacing the radius stays within 1e-5 and the speed
+  // within 0.3% of the circle's.
   const int n = 48;
   for (int i = 0; i <= n; ++i) {
     // The last keyframe repeats the first exactly (angle 0, not 2 pi): a loop, C1 at the seam.
     const double a = 2.0 * std::numbers::pi * (i % n) / n;
     CameraKeyframe k;
     k.time = duration * i / n;
-    k.position = c + dist * glm::dvec3(std::cos(elevation) * std::cos(a),
-                                       std::cos(elevation) * std::sin(a), std::sin(elevation));
+    k.position = c + dist * orbitDirection(sk.up, a, elevation);
     k.target = c;
+    k.up = upVector(sk.up);
     k.fovY = fovY;
     keys.push_back(k);
   }
   return CameraPath::fromKeyframes(std::move(keys));
 }
 
+namespace {
+
+// The street generators read the model as a z-up city (streets in X and Y, heights in Z).
+Status requireZUp(const char* kind, const Skeleton& sk) {
+  if (sk.up == UpAxis::Z) return Ok{};
+  return makeError(std::string(kind) + " path: defined for z-up cities, and this store is " +
+                   upAxisName(sk.up) + "-up (use --kind orbit, or rebuild with --up z if the " +
+                   "model is a city)");
+}
+
+}  // namespace
+
 Result<CameraPath> makeWalkFlyPath(const Skeleton& sk) {
+  if (auto z = requireZUp("walk-fly", sk); !z) return z.error();
   const Aabb b = rootBounds(sk);
   if (b.empty()) return makeError("walk-fly path: the model has no hlod_0 bounds");
   const glm::dvec3 size = b.size();
@@ -436,6 +453,7 @@ Result<CameraPath> makeWalkFlyPath(const Skeleton& sk) {
 }
 
 Result<CameraPath> makeDrivePath(const Skeleton& sk) {
+  if (auto z = requireZUp("drive", sk); !z) return z.error();
   const Aabb b = rootBounds(sk);
   if (b.empty()) return makeError("drive path: the model has no hlod_0 bounds");
   const double height = b.min.z + 1.5;

@@ -3,6 +3,8 @@
 // GPU are drawn at a coarser level, never waited for). See hlod/runtime/FrameDriver.h.
 #include "hlod/runtime/FrameDriver.h"
 
+#include "hlod/Framing.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -78,16 +80,9 @@ Status FrameDriver::start(double knownVTime) {
 
   const Skeleton& skel = selector_->skeleton();
   if (!bounds_.empty()) {
-    Camera cam;
-    const glm::dvec3 c = bounds_.centre();
-    const double d = std::max(glm::length(bounds_.size()), 1e-3);
-    cam.position = c + glm::dvec3(0.0, -d, d);
-    cam.target = c;
-    cam.up = {0.0, 0.0, 1.0};
-    cam.fovY = 60.0;
-    cam.aspect = static_cast<double>(options_.width) / options_.height;
-    cam.nearPlane = d * 1e-3;
-    cam.farPlane = d * 4.0;
+    // The whole model in view, upright, as its default view shows it.
+    const double aspect = static_cast<double>(options_.width) / options_.height;
+    const Camera cam = frameBounds(bounds_, skel.up, defaultViewDirection(skel.up), 60.0, aspect);
     const std::vector<std::uint32_t> front = nearToFar(skel, cam.position, skel.roots);
     // The first draw pays the first-use costs; the second one is this machine's speed.
     auto warm = renderer_.draw(cam, front);

@@ -13,6 +13,31 @@ constexpr char kSkeletonMagic[8] = {'H', 'L', 'O', 'D', 'S', 'K', 'E', 'L'};
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::uint32_t kMaxSimplifierName = 64;
 
+bool printableAscii(unsigned char c) {
+  return c >= 0x20 && c < 0x7f;
+}
+
+// What the encoder writes of a CRS description: printable ASCII only, at most
+// kMaxCrsDescription bytes, so that the decoder can refuse anything else.
+std::string storableText(const std::string& text) {
+  std::string out = text.substr(0, kMaxCrsDescription);
+  for (char& c : out)
+    if (!printableAscii(static_cast<unsigned char>(c))) c = '?';
+  return out;
+}
+
+void putFrame(store::ByteWriter& w, const Skeleton& s) {
+  w.put(static_cast<std::uint32_t>(s.up));
+  w.put(std::int32_t(s.crs.epsg));
+  w.put(std::uint32_t(s.crs.toEnu ? 1 : 0));
+  w.put(s.crs.originLat);
+  w.put(s.crs.originLon);
+  w.put(s.crs.originHeight);
+  const std::string text = storableText(s.crs.description);
+  w.put(std::uint32_t(text.size()));
+  w.putBytes(text.data(), text.size());
+}
+
 void putNode(store::ByteWriter& w, const NodeInfo& n) {
   w.put(n.parent);
   w.put(n.firstChild);
@@ -75,6 +100,7 @@ std::vector<std::byte> encodeSkeleton(const Skeleton& s, const StoreFacts& facts
   w.put(facts.blockCount);
   w.put(facts.buildSeconds);
   w.put(facts.payloadBytes);
+  putFrame(w, s);
   w.put(std::uint32_t(s.nodes.size()));
   w.put(std::uint32_t(s.roots.size()));
   for (const auto& n : s.nodes) putNode(w, n);
@@ -104,15 +130,36 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
 
   DecodedSkeleton out;
   Skeleton& s = out.skeleton;
-  std::uint32_t nameLen = 0, nodeCount = 0, rootCount = 0;
+  std::uint32_t nameLen = 0, nodeCount = 0, rootCount = 0, up = 0, toEnu = 0, textLen = 0;
+  std::int32_t epsg = 0;
   if (!r.get(s.params.levelFactor) || !r.get(s.params.desiredTri) || !r.get(s.params.cTex) ||
       !r.get(nameLen) || nameLen > kMaxSimplifierName)
     return bad("truncated build parameters");
   s.params.simplifier.resize(nameLen);
   if (!r.getBytes(s.params.simplifier.data(), nameLen) || !r.get(out.facts.inputTriangles) ||
       !r.get(out.facts.blockCount) || !r.get(out.facts.buildSeconds) ||
-      !r.get(out.facts.payloadBytes) || !r.get(nodeCount) || !r.get(rootCount))
+      !r.get(out.facts.payloadBytes))
     return bad("truncated header");
+  if (!r.get(up) || !r.get(epsg) || !r.get(toEnu) || !r.get(s.crs.originLat) ||
+      !r.get(s.crs.originLon) || !r.get(s.crs.originHeight) || !r.get(textLen) ||
+      textLen > kMaxCrsDescription)
+    return bad("truncated model frame (up axis, CRS)");
+  s.crs.description.resize(textLen);
+  if (!r.getBytes(s.crs.description.data(), textLen) || !r.get(nodeCount) || !r.get(rootCount))
+    return bad("truncated header");
+  // The frame reaches `hlodr info` and every camera path: only values an import can give.
+  if (up > 2) return bad("up axis " + std::to_string(up) + " is not 0, 1 or 2 (x, y, z)");
+  s.up = static_cast<UpAxis>(up);
+  if (epsg < 0) return bad("negative EPSG code");
+  s.crs.epsg = epsg;
+  if (toEnu > 1) return bad("CRS conversion flag is not 0 or 1");
+  s.crs.toEnu = toEnu == 1;
+  if (!(std::abs(s.crs.originLat) <= 90.0) || !(std::abs(s.crs.originLon) <= 180.0) ||
+      !std::isfinite(s.crs.originHeight))
+    return bad("CRS origin is not a latitude, longitude and finite height");
+  for (const char c : s.crs.description)
+    if (!printableAscii(static_cast<unsigned char>(c)))
+      return bad("CRS description holds a byte that is not printable ASCII");
   // The ranges HlodBuilder::create accepts: `hlodr info` once printed nan and inf from here.
   // (The simplifier name is any bytes; printing it is the printer's care.)
   if (!(s.params.levelFactor >= 2.0 && s.params.levelFactor <= 64.0))

@@ -6,13 +6,14 @@
 #include "hlod/Import.h"
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
+#include "hlod/UpAxis.h"
 #include "renderer/FrameView.h"
 
 namespace service {
 
 struct LoadedScene {
   hlod::Model model;
-  glm::dvec3 up{0.0, 0.0, 1.0};  // cities (folders, CityJSON) are Z-up; other mesh files Y-up
+  hlod::UpAxis up = hlod::UpAxis::Z;  // hlod::upAxisOf the model; a city folder is Z-up
   bool isCity = false;
 };
 
@@ -27,9 +28,8 @@ struct CameraPose {
   double fovY = 50.0;  // degrees
 };
 
-// A three-quarter view from above that frames the whole box.
-CameraPose defaultCamera(const hlod::Aabb& bounds, const glm::dvec3& up, double fovY,
-                         double aspect);
+// The default view of a model (hlod::defaultViewDirection, framed by hlod::frameBounds).
+CameraPose defaultCamera(const hlod::Aabb& bounds, hlod::UpAxis up, double fovY, double aspect);
 
 // Near and far planes that hold the box seen from the camera (reversed-Z makes a wide range safe).
 void clipPlanes(const CameraPose& camera, const hlod::Aabb& bounds, double& zNear, double& zFar);

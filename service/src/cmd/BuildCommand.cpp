@@ -17,7 +17,7 @@ namespace service::cmd {
 const char* const kBuildUsage =
     "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tris N]\n"
     "                   [--simplifier meshopt|openmesh] [--c-tex X] [--max-block-tri N]\n"
-    "                   [--lod X] [--quiet]\n"
+    "                   [--lod X] [--up x|y|z] [--quiet]\n"
     "\n"
     "Builds the HLOD node store (Lakhia et al. III-A/B) that `hlodr render` streams from disk.\n"
     "INPUT is a city folder (with city.json; blocks are loaded one at a time) or one or more\n"
@@ -43,6 +43,9 @@ const char* const kBuildUsage =
     "  --lod X              CityJSON: the level of detail to import, as the file names it (1, 2,\n"
     "                       2.2 ...); objects without it are left out (default: each city\n"
     "                       object at its highest)\n"
+    "  --up x|y|z           the axis the model stands on, stored in the store for camera\n"
+    "                       paths and default views (default: z for city folders and\n"
+    "                       CityJSON, y for OBJ, glTF/GLB, PLY, OFF and STL)\n"
     "  --quiet              no progress line, no summary\n";
 
 namespace {
@@ -61,7 +64,7 @@ std::string formatSeconds(double s) {
 int runBuild(const Argv& argv) {
   auto args = Args::parse(argv, {"quiet"},
                           {"output", "level-factor", "desired-tris", "desired-tri", "simplifier",
-                           "c-tex", "max-block-tri", "lod"});
+                           "c-tex", "max-block-tri", "lod", "up"});
   if (!args) {
     std::fprintf(stderr, "hlodr build: %s\n%s", args.message().c_str(), kBuildUsage);
     return 2;
@@ -95,6 +98,13 @@ int runBuild(const Argv& argv) {
     std::fprintf(stderr, "hlodr build: unknown simplifier '%s' (meshopt or openmesh)\n",
                  options.simplifier.c_str());
     return 2;
+  }
+  if (auto up = args->get("up")) {
+    options.up = hlod::parseUpAxis(*up);
+    if (!options.up) {
+      std::fprintf(stderr, "hlodr build: --up must be x, y or z (not '%s')\n", up->c_str());
+      return 2;
+    }
   }
   const bool quiet = args->has("quiet");
   std::string cTexSource = "--c-tex";
@@ -151,6 +161,17 @@ int runBuild(const Argv& argv) {
       if (!m->warnings.empty()) lines.done();
       // Warnings show also with --quiet (which silences progress and the summary only).
       for (const auto& w : m->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+      // The store has one up axis and one CRS: the first input's, and all must agree on up.
+      if (&in == &inputs.front()) {
+        model.zUp = m->zUp;
+        model.crs = m->crs;
+      } else if (m->zUp != model.zUp && !options.up) {
+        lines.done();
+        std::fprintf(stderr, "hlodr build: %s is %s-up but %s is %s-up; give --up to choose one\n",
+                     in.c_str(), hlod::upAxisName(hlod::upAxisOf(*m)), inputs.front().c_str(),
+                     hlod::upAxisName(hlod::upAxisOf(model)));
+        return 2;
+      }
       for (auto& mesh : m->meshes) model.meshes.push_back(std::move(mesh));
     }
     built = hlod::buildStoreFromModel(model, *out, options, progress);
@@ -165,9 +186,10 @@ int runBuild(const Argv& argv) {
     for (const auto& n : built->nodes) depth = std::max(depth, n.level + 1);
     std::printf(
         "wrote %s: %zu nodes from %zu blocks, depth %u (levelFactor %d, desiredTri %u, "
-        "%s, c_tex %.3f from %s)\n",
+        "%s, c_tex %.3f from %s), %s up\n",
         out->c_str(), built->nodes.size(), built->roots.size(), depth, options.levelFactor,
-        options.desiredTri, options.simplifier.c_str(), options.cTex, cTexSource.c_str());
+        options.desiredTri, options.simplifier.c_str(), options.cTex, cTexSource.c_str(),
+        hlod::upAxisName(built->up));
   }
   return 0;
 }

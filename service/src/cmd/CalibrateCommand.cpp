@@ -59,7 +59,7 @@ double medianFrameMs(renderer::GlContext& context, const std::vector<hlod::Mesh>
   std::vector<const renderer::GpuMesh*> list;
   for (const auto& g : gpu) list.push_back(&g);
   const double aspect = double(width) / height;
-  const auto cam = defaultCamera(model.bounds(), {0, 0, 1}, 50.0, aspect);
+  const auto cam = defaultCamera(model.bounds(), hlod::UpAxis::Z, 50.0, aspect);
   double zNear = 0.1, zFar = 1e5;
   clipPlanes(cam, model.bounds(), zNear, zFar);
   const auto view =

@@ -1,4 +1,5 @@
 // `hlodr info`: what a node store holds, per level; or what a model file imports as.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -17,8 +18,10 @@ const char* const kInfoUsage =
     "usage: hlodr info STORE [--json]\n"
     "       hlodr info MODEL [--lod X] [--json]\n"
     "\n"
-    "Prints a node store's build parameters, block count, depth, payload bytes, and nodes and\n"
-    "triangles per level. Checks the skeleton (checksum, tree structure) on the way.\n"
+    "Prints a node store's build parameters, up axis, coordinate reference system, block count,\n"
+    "depth, payload bytes, the triangles per node (min, p10, median, p90, max over the leaves and\n"
+    "over all nodes), the leaf triangles against the input's, and nodes and triangles per level.\n"
+    "Checks the skeleton (checksum, tree structure, model frame) on the way.\n"
     "For a model file (mesh, glTF, CityJSON) prints what `hlodr build` would import: format and\n"
     "version, coordinate reference system, city objects, the LoD chosen, meshes, triangles, and\n"
     "the extent in the model's units (for data converted to east-north-up metres, the origin).\n"
@@ -50,6 +53,35 @@ std::string formatOf(const std::filesystem::path& path, const hlod::Model& model
   std::string ext = path.extension().string();
   for (char& c : ext) c = char(std::toupper(static_cast<unsigned char>(c)));
   return ext.empty() ? "mesh" : ext.substr(1);
+}
+
+// Min, p10, median, p90 and max of a list of triangle counts (nearest rank; zeros when empty).
+struct Spread {
+  std::uint32_t min = 0, p10 = 0, median = 0, p90 = 0, max = 0;
+};
+
+Spread spreadOf(std::vector<std::uint32_t> v) {
+  Spread s;
+  if (v.empty()) return s;
+  std::sort(v.begin(), v.end());
+  const auto at = [&](double q) { return v[std::size_t(q * double(v.size() - 1) + 0.5)]; };
+  s.min = v.front();
+  s.p10 = at(0.1);
+  s.median = at(0.5);
+  s.p90 = at(0.9);
+  s.max = v.back();
+  return s;
+}
+
+nlohmann::json toJson(const Spread& s) {
+  return {{"min", s.min}, {"p10", s.p10}, {"median", s.median}, {"p90", s.p90}, {"max", s.max}};
+}
+
+std::string describe(const Spread& s) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "min %u, p10 %u, median %u, p90 %u, max %u", s.min, s.p10,
+                s.median, s.p90, s.max);
+  return buf;
 }
 
 int modelInfo(const std::string& file, const Args& args) {
@@ -142,8 +174,11 @@ int runInfo(const Argv& argv) {
   };
   std::map<std::uint32_t, Level> levels;
   std::uint64_t leafTriangles = 0;
+  std::vector<std::uint32_t> leafTris, nodeTris;
   for (std::uint32_t i = 0; i < s.nodes.size(); ++i) {
     const auto& n = s.nodes[i];
+    nodeTris.push_back(n.numTri);
+    if (s.isLeaf(i)) leafTris.push_back(n.numTri);
     auto& l = levels[n.level];
     ++l.nodes;
     l.triangles += n.numTri;
@@ -155,6 +190,14 @@ int runInfo(const Argv& argv) {
     }
   }
   const std::size_t depth = levels.size();
+  const Spread leafSpread = spreadOf(std::move(leafTris)),
+               nodeSpread = spreadOf(std::move(nodeTris));
+  // The leaves hold the input's triangles, less those the build dropped (degenerate, welded),
+  // plus those cuts added.
+  const double leafRatio =
+      f.inputTriangles > 0 ? double(leafTriangles) / double(f.inputTriangles) : 0.0;
+  // The decoder let only printable ASCII through; printable() keeps that promise here too.
+  const std::string crsText = printable(s.crs.description);
   if (args->has("json")) {
     nlohmann::json j;
     j["store"] = args->positionals()[0];
@@ -166,8 +209,15 @@ int runInfo(const Argv& argv) {
     j["nodes"] = s.nodes.size();
     j["blocks"] = f.blockCount;
     j["depth"] = depth;
+    j["up"] = hlod::upAxisName(s.up);
+    j["crs"] = {{"epsg", s.crs.epsg}, {"description", crsText}, {"toEnu", s.crs.toEnu}};
+    if (s.crs.toEnu)
+      j["crs"]["origin"] = {
+          {"lat", s.crs.originLat}, {"lon", s.crs.originLon}, {"height", s.crs.originHeight}};
     j["inputTriangles"] = f.inputTriangles;
     j["leafTriangles"] = leafTriangles;
+    j["leafToInputTriangles"] = leafRatio;
+    j["trianglesPerNode"] = {{"leaves", toJson(leafSpread)}, {"allNodes", toJson(nodeSpread)}};
     j["payloadBytes"] = f.payloadBytes;
     j["buildSeconds"] = f.buildSeconds;
     j["levels"] = nlohmann::json::array();
@@ -185,11 +235,19 @@ int runInfo(const Argv& argv) {
   std::printf("built with    levelFactor %g, desiredTri %u, c_tex %.3f, simplifier %s (%.1f s)\n",
               s.params.levelFactor, s.params.desiredTri, s.params.cTex,
               printable(s.params.simplifier).c_str(), f.buildSeconds);
+  std::printf("up axis       %s\n", hlod::upAxisName(s.up));
+  std::printf("CRS           %s\n", crsText.empty() ? "none" : crsText.c_str());
+  if (s.crs.toEnu)
+    std::printf("ENU origin    lat %.9f, lon %.9f, height %.3f m (WGS 84)\n", s.crs.originLat,
+                s.crs.originLon, s.crs.originHeight);
   std::printf("blocks        %u\n", f.blockCount);
   std::printf("nodes         %zu\n", s.nodes.size());
   std::printf("depth         %zu\n", depth);
   std::printf("triangles     %llu input, %llu at the leaves\n",
               (unsigned long long)f.inputTriangles, (unsigned long long)leafTriangles);
+  std::printf("leaf / input  %.4f\n", leafRatio);
+  std::printf("tris/node     leaves: %s\n", describe(leafSpread).c_str());
+  std::printf("              all nodes: %s\n", describe(nodeSpread).c_str());
   std::uint64_t memory = 0;
   for (const auto& [d, l] : levels) memory += l.memoryBytes;
   std::printf("payload       %.2f MB stored (deflated), %.2f MB decoded\n",

@@ -27,8 +27,9 @@ const char* const kPathUsage =
     "\n"
     "options:\n"
     "  --kind K                walk-fly: a street-level walk rising into a fly-over (35 s);\n"
-    "                          drive: a loop along streets at 1.5 m; orbit: a circle around the\n"
-    "                          model (30 s)\n"
+    "                          drive: a loop along streets at 1.5 m (both for z-up cities);\n"
+    "                          orbit: a circle around the store's up axis, framing the model\n"
+    "                          (30 s)\n"
     "  -o, --output PATH.json  output file (required)\n"
     "  --duration S            stretch or shrink the path to S seconds\n";
 
@@ -178,7 +179,21 @@ int runRenderPath(const Argv& argv) {
                  path.message().c_str());
     return 1;
   }
-  auto session = Session::open(store, so, *backend);
+  if (!isStore(store))
+    return usageError("render", store +
+                                    " is not a node store (a folder with skeleton.bin; make "
+                                    "one with `hlodr build`)");
+  auto opened = hlod::NodeStore::open(store);
+  if (!opened) {
+    std::fprintf(stderr, "hlodr render: %s: %s\n", store.c_str(), opened.message().c_str());
+    return 1;
+  }
+  // The default sun stands above the store's up axis, as for `hlodr render MODEL`.
+  declared = sceneFromArgs(*args, hlod::upVector((*opened)->skeleton().up));
+  if (!declared) return usageError("render", declared.message());
+  so.effects = declared->scene.effects;
+  auto session =
+      Session::create(std::shared_ptr<const hlod::NodeSource>(std::move(*opened)), so, *backend);
   if (!session) {
     std::fprintf(stderr, "hlodr render: %s\n", session.message().c_str());
     return 1;

@@ -179,19 +179,16 @@ int runRender(const Argv& argv) {
     return 1;
   }
   if (auto up = args->get("up")) {
-    if (*up == "x")
-      scene->up = {1, 0, 0};
-    else if (*up == "y")
-      scene->up = {0, 1, 0};
-    else if (*up == "z")
-      scene->up = {0, 0, 1};
-    else {
+    const auto axis = hlod::parseUpAxis(*up);
+    if (!axis) {
       std::fprintf(stderr, "hlodr render: --up must be x, y or z\n");
       return 2;
     }
+    scene->up = *axis;
   }
-  options.up = scene->up;
-  auto declared = sceneFromArgs(*args, scene->up);
+  const glm::dvec3 upVector = hlod::upVector(scene->up);
+  options.up = upVector;
+  auto declared = sceneFromArgs(*args, upVector);
   if (!declared) {
     std::fprintf(stderr, "hlodr render: %s\n", declared.message().c_str());
     return 2;
@@ -231,12 +228,12 @@ int runRender(const Argv& argv) {
     const std::array<double, 6>& v = *cameraValues;
     camera.position = {v[0], v[1], v[2]};
     camera.target = {v[3], v[4], v[5]};
-    camera.up = scene->up;
+    camera.up = upVector;
     camera.fovY = *fov;
   } else if (const auto& sc = declared->scene.camera) {
     camera.position = sc->position;
     camera.target = sc->target;
-    camera.up = sc->up.value_or(scene->up);
+    camera.up = sc->up.value_or(upVector);
     camera.fovY = args->has("fov") ? *fov : sc->fov;
   } else {
     camera = defaultCamera(bounds, scene->up, *fov, aspect);

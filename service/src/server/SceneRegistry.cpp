@@ -12,7 +12,7 @@ hlod::Camera Scene::defaultCamera(double aspect) const {
   hlod::Aabb bounds;
   const hlod::Skeleton& sk = store->skeleton();
   for (std::uint32_t r : sk.roots) bounds.extend(sk.nodes[r].bounds);
-  const CameraPose pose = service::defaultCamera(bounds, up, 50.0, aspect);
+  const CameraPose pose = service::defaultCamera(bounds, sk.up, 50.0, aspect);
   hlod::Camera c;
   c.position = pose.position;
   c.target = pose.target;
@@ -52,7 +52,7 @@ nlohmann::json Scene::summary() const {
           {"triangles",
            {{"input", store->facts().inputTriangles}, {"hlod0", hlod0}, {"leaves", leaves}}},
           {"bounds", {{"min", vec(bounds.min)}, {"max", vec(bounds.max)}}},
-          {"up", vec(up)},
+          {"up", vec(hlod::upVector(sk.up))},
           {"defaultCamera",
            {{"position", vec(cam.position)},
             {"target", vec(cam.target)},

@@ -24,7 +24,7 @@ struct Scene {
   std::filesystem::path path;
   std::shared_ptr<const hlod::NodeStore> store;
   std::uint32_t cacheStore = 0;  // its number in the shared NodeCache's keys
-  glm::dvec3 up{0.0, 0.0, 1.0};
+  // The store's up axis and framing (hlod::frameBounds), as `hlodr render MODEL` would show it.
   hlod::Camera defaultCamera(double aspect) const;
   nlohmann::json summary() const;  // for GET /api/scenes
   nlohmann::json detail() const;   // for GET /api/scenes/{id}

@@ -1,0 +1,39 @@
+#pragma once
+// Framing a model: where a camera stands to see the whole model fill most of the frame, upright.
+// One rule for the orbit path, `hlodr render MODEL`'s default view, the service's first camera
+// and the frame driver's calibration frame.
+#include <glm/glm.hpp>
+
+#include "hlod/Camera.h"
+#include "hlod/Mesh.h"
+#include "hlod/UpAxis.h"
+
+namespace hlod {
+
+// The share of the frame's smaller side a framed model's bounding sphere spans. The sphere
+// holds the model seen from any side, so an orbit never leaves the frame; it is also loose
+// (an elongated model spans less), hence a small margin only.
+constexpr double kFramingFill = 0.95;
+
+// Distance from the centre of a sphere of `radius` at which a camera looking at that centre,
+// with a vertical field of view of fovY degrees and width / height `aspect`, sees the sphere's
+// outline span `fill` of the frame's smaller side. Seen from distance d, the outline's
+// half-size on the image plane (at unit depth) is tan(asin(r / d)) = r / sqrt(d^2 - r^2); the
+// frame's smaller half-size is tan(fovY / 2) * min(1, aspect).
+double framingDistance(double radius, double fovY, double aspect, double fill = kFramingFill);
+
+// Unit direction from a target to the camera: `azimuth` radians around up from the first of
+// horizontalAxes(up) towards the second, `elevation` radians above the plane they span.
+glm::dvec3 orbitDirection(UpAxis up, double azimuth, double elevation);
+
+// Where a model is seen from by default: a three-quarter view from 30 degrees above. A z-up
+// city from the south-west (-X, -Y), so that facades on both street directions show; a y-up
+// mesh from its front (+Z, the glTF convention) and a little to its right (+X).
+glm::dvec3 defaultViewDirection(UpAxis up);
+
+// A camera on `direction` (unit) from the centre of bounds, at framingDistance of the box's
+// bounding sphere, looking at the centre with the model's up. Near and far hold the sphere.
+Camera frameBounds(const Aabb& bounds, UpAxis up, const glm::dvec3& direction, double fovY,
+                   double aspect);
+
+}  // namespace hlod
