@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
   };
   std::vector<View> views;
   {
-    const auto pose = service::defaultCamera(bounds, {0, 0, 1}, 50.0, aspect);
+    const auto pose = service::defaultCamera(bounds, sk.up, 50.0, aspect);
     hlod::CameraSample s;
     s.camera.position = pose.position;
     s.camera.target = pose.target;

@@ -59,7 +59,7 @@ void renderCity(benchmark::State& state, int blocks, bool closeUp) {
     triangles += m.triangles();
   }
   const double aspect = 1280.0 / 720.0;
-  auto cam = service::defaultCamera(s.bounds, {0, 0, 1}, 50.0, aspect);
+  auto cam = service::defaultCamera(s.bounds, hlod::UpAxis::Z, 50.0, aspect);
   if (closeUp) cam.position = cam.target + (cam.position - cam.target) * 0.15;
   double zNear = 0.1, zFar = 1e5;
   service::clipPlanes(cam, s.bounds, zNear, zFar);
