@@ -31,7 +31,7 @@
 #include "hlod/import/Epsg.h"
 #include "import/CityJsonFrame.h"
 #include "import/ImportUtil.h"
-#include "import/JsonDepth.h"
+#include "hlod/JsonDepth.h"
 
 namespace hlod::import {
 namespace {

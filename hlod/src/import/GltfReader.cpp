@@ -25,7 +25,7 @@
 #include "hlod/Import.h"
 #include "hlod/import/InsideFolder.h"
 #include "import/ImportUtil.h"
-#include "import/JsonDepth.h"
+#include "hlod/JsonDepth.h"
 
 namespace hlod::import {
 namespace {

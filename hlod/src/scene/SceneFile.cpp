@@ -12,6 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hlod/JsonDepth.h"
+
 namespace hlod {
 
 namespace {
@@ -280,23 +282,7 @@ Result<SceneEffects> readEffects(const json& j, const std::string& where) {
 
 Result<json> parseJson(const std::string& text) {
   // Scene files are small and written by people: a deep nesting is a mistake, not a scene.
-  int depth = 0, maxDepth = 0;
-  bool inString = false, escaped = false;
-  for (char c : text) {
-    if (inString) {
-      if (escaped)
-        escaped = false;
-      else if (c == '\\')
-        escaped = true;
-      else if (c == '"')
-        inString = false;
-      continue;
-    }
-    if (c == '"') inString = true;
-    if (c == '[' || c == '{') maxDepth = std::max(maxDepth, ++depth);
-    if (c == ']' || c == '}') --depth;
-    if (maxDepth > 16) return makeError("nested deeper than 16 levels");
-  }
+  if (jsonDepth(text, 16) > 16) return makeError("nested deeper than 16 levels");
   json j = json::parse(text, nullptr, false);
   if (j.is_discarded()) return makeError("not valid JSON");
   return j;

@@ -3,34 +3,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include "hlod/JsonDepth.h"
+
 namespace service::server {
 
 namespace {
-
-// Nesting depth of the JSON text, outside strings: a body of 20,000 brackets is refused before
-// a parser recurses into it.
-bool tooDeep(const std::string& text, int maxDepth) {
-  int depth = 0;
-  bool inString = false, escaped = false;
-  for (char c : text) {
-    if (inString) {
-      if (escaped)
-        escaped = false;
-      else if (c == '\\')
-        escaped = true;
-      else if (c == '"')
-        inString = false;
-      continue;
-    }
-    if (c == '"') inString = true;
-    if (c == '[' || c == '{') {
-      if (++depth > maxDepth) return true;
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return false;
-}
 
 std::string range(double lo, double hi) {
   char buf[96];
@@ -55,7 +32,8 @@ hlod::Status checkKnown(const nlohmann::json& j, const std::string& prefix,
 }  // namespace
 
 hlod::Result<JsonInput> JsonInput::parse(const std::string& body, std::set<std::string> known) {
-  if (tooDeep(body, kMaxDepth))
+  // A body of 20,000 brackets is refused before a parser recurses into it.
+  if (hlod::jsonDepth(body, std::size_t(kMaxDepth)) > std::size_t(kMaxDepth))
     return hlod::makeError("the body is nested deeper than " + std::to_string(kMaxDepth) +
                            " levels");
   JsonInput in;

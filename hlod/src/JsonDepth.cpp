@@ -1,8 +1,8 @@
-#include "import/JsonDepth.h"
+#include "hlod/JsonDepth.h"
 
 #include <algorithm>
 
-namespace hlod::import {
+namespace hlod {
 
 std::size_t jsonDepth(const char* text, std::size_t size, std::size_t limit) {
   std::size_t depth = 0, deepest = 0;
@@ -26,4 +26,4 @@ std::size_t jsonDepth(const char* text, std::size_t size, std::size_t limit) {
   return deepest;
 }
 
-}  // namespace hlod::import
+}  // namespace hlod
