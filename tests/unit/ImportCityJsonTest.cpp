@@ -148,7 +148,7 @@ TEST(CityJsonImport, AWallWithAWindowHoleGivesEightTriangles) {
                   {"boundaries", {{{0, 1, 2, 3}, {4, 5, 6, 7}}}},
                   {"semantics", {{"surfaces", {{{"type", "WallSurface"}}}}, {"values", {0}}}}};
   TempDir dir;
-  auto m = importText(dir, doc(v, {{"w", object({g})}}).dump());
+  auto m = importText(dir, doc(v, {{"w", object(json::array({g}))}}).dump());
   ASSERT_TRUE(m.ok()) << m.message();
   EXPECT_EQ(m->triangleCount(), 8u);
   ASSERT_EQ(m->meshes.size(), 1u);
