@@ -25,13 +25,13 @@
 #include <nlohmann/json.hpp>
 
 #include "hlod/Import.h"
+#include "hlod/JsonDepth.h"
 #include "hlod/city/Geodesy.h"
 #include "hlod/import/CityJsonPalette.h"
 #include "hlod/import/EarClip.h"
 #include "hlod/import/Epsg.h"
 #include "import/CityJsonFrame.h"
 #include "import/ImportUtil.h"
-#include "hlod/JsonDepth.h"
 
 namespace hlod::import {
 namespace {

@@ -23,9 +23,9 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "hlod/Import.h"
+#include "hlod/JsonDepth.h"
 #include "hlod/import/InsideFolder.h"
 #include "import/ImportUtil.h"
-#include "hlod/JsonDepth.h"
 
 namespace hlod::import {
 namespace {
