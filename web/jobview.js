@@ -137,7 +137,8 @@ export class JobView {
         this.player.url = URL.createObjectURL(frame.blob);
         this.parts.image.src = this.player.url;
         this.player.shown = want;
-        this.framesShown++;
+        // Counted once decoded: until then the image has no size (a newer frame may replace it first).
+        await this.parts.image.decode().then(() => this.framesShown++, () => {});
         this.renderCaption();
       } catch (e) {
         this.onError(e, 'job-frame');

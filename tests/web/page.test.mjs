@@ -296,7 +296,9 @@ test('a path job plays its frames, fills every chart, and offers its CSV and MP4
   assert.equal(job.state, 'done', `the job ended ${job.state}: ${problems.join(' | ')}`);
   assert.equal(job.framesReceived, JOB_FRAMES);
   assert.ok(job.framesShown >= 1, 'the player showed frames');
-  assert.ok(await page.evaluate(() => document.querySelector('#job-frame').naturalWidth > 0), 'the frame image loaded');
+  // The player may be swapping in the last frame as the job ends; wait for the image, not for a moment.
+  await waitOnPage(() => document.querySelector('#job-frame').complete &&
+    document.querySelector('#job-frame').naturalWidth > 0, null, 15000, 'the frame image loaded');
   const points = await page.evaluate(() => window.hlodrDebug.chartPoints());
   for (const [chart, n] of Object.entries(points)) assert.equal(n, JOB_FRAMES, `chart ${chart} has every frame`);
 
