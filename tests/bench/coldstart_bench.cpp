@@ -78,13 +78,13 @@ int main(int argc, char** argv) {
 
   std::printf("first settled frame of a new session, %dx%d, budget %.0f ms, %d runs each\n", width,
               height, budget, repeat);
-  std::printf("%-30s %12s %8s %12s %14s %8s\n", "camera", "measured: ms", "x budget", "triangles",
-              "known v: ms", "x budget");
+  std::printf("%-30s %12s %8s %12s %9s %14s %8s\n", "camera", "measured: ms", "x budget",
+              "triangles", "again ms", "known v: ms", "x budget");
   double known = 0.0;
   std::vector<double> ratios[2];  // first frame / budget: measured v_time, known v_time
   for (const View& v : views) {
     for (int r = 0; r < repeat; ++r) {
-      double ms[2] = {0, 0}, tri = 0;
+      double ms[2] = {0, 0}, tri = 0, againMs = 0;
       for (int pass = 0; pass < 2; ++pass) {
         service::SessionOptions o;
         o.width = width;
@@ -102,14 +102,32 @@ int main(int argc, char** argv) {
           return 1;
         }
         ms[pass] = rec->gpuMs;
-        if (pass == 0) tri = double(rec->triangles);
+        if (pass == 0) {
+          tri = double(rec->triangles);
+          // The same front drawn again (median of 3): what it costs once its first use is paid.
+          // first/again apart from again/budget tells first-use costs from a wrong v_time.
+          hlod::Camera cam = v.sample.camera;
+          cam.aspect = aspect;
+          const std::vector<std::uint32_t> front = (*s)->driver().lastFront();
+          std::vector<double> again;
+          for (int k = 0; k < 3; ++k) {
+            auto next = (*s)->driver().renderer().draw(cam, front);
+            if (!next) {
+              std::fprintf(stderr, "%s\n", next.message().c_str());
+              return 1;
+            }
+            again.push_back(next->ms);
+          }
+          std::sort(again.begin(), again.end());
+          againMs = again[1];
+        }
         known = (*s)->selector().vTime();
         if (pass == 0 && r == 0 && &v == &views.front())
           std::fprintf(stderr, "(measured v_time %.3g ms per cost unit)\n",
                        (*s)->driver().measuredVTime());
       }
-      std::printf("%-30s %12.1f %8.2f %12.0f %14.1f %8.2f\n", r == 0 ? v.name : "", ms[0],
-                  ms[0] / budget, tri, ms[1], ms[1] / budget);
+      std::printf("%-30s %12.1f %8.2f %12.0f %9.1f %14.1f %8.2f\n", r == 0 ? v.name : "", ms[0],
+                  ms[0] / budget, tri, againMs, ms[1], ms[1] / budget);
       for (int pass = 0; pass < 2; ++pass) ratios[pass].push_back(ms[pass] / budget);
     }
   }

@@ -20,7 +20,8 @@ using hlod::test::SimulatedRenderer;
 namespace {
 
 struct Rig {
-  explicit Rig(test::SyntheticCity city = {}, double budgetMs = 33.0)
+  explicit Rig(test::SyntheticCity city = {}, double budgetMs = 33.0,
+               const char* selector = "lakhia")
       : source(test::makeSyntheticCity(city)), renderer(source.skeleton().nodes.size()) {
     renderer.setTriangles(source.skeleton());
     loader = std::make_unique<Loader>(source);
@@ -30,8 +31,8 @@ struct Rig {
     o.width = 640;
     o.height = 360;
     o.loaderThread = false;  // the test steps the loader
-    driver = std::make_unique<FrameDriver>(std::move(*makeSelector("lakhia", source.skeleton(), p)),
-                                           std::move(*makeSelector("lakhia", source.skeleton(), p)),
+    driver = std::make_unique<FrameDriver>(std::move(*makeSelector(selector, source.skeleton(), p)),
+                                           std::move(*makeSelector(selector, source.skeleton(), p)),
                                            *loader, renderer, o);
   }
   // A street-level camera looking along the first row of blocks.
@@ -80,12 +81,49 @@ TEST(FrameDriver, StartPutsHlod0OnTheGpuAndMeasuresTheMachinesVTime) {
   ASSERT_TRUE(rig.driver->start().ok());
   for (std::uint32_t r : rig.source.skeleton().roots)
     EXPECT_TRUE(rig.renderer.onGpu().isResident(r));
-  // The calibration draw of all hlod_0: (msPerFrame + k * tris) / tris per unit of cost.
-  double tris = 0.0;
-  for (std::uint32_t r : rig.source.skeleton().roots) tris += rig.source.skeleton().nodes[r].numTri;
-  const double expected = (0.5 + 1e-4 * tris) / tris;
+  // The probe's timed draws of the front the budget selected for the default view:
+  // (msPerFrame + k * tris) / cost of that front.
+  const auto& nodes = rig.source.skeleton().nodes;
+  const auto& probed = rig.renderer.lastFront;
+  ASSERT_GT(probed.size(), rig.source.skeleton().roots.size());  // finer than hlod_0
+  double tris = 0.0, cost = 0.0;
+  for (std::uint32_t n : probed) {
+    tris += nodes[n].numTri;
+    cost += std::max(nodes[n].cost, rig.driver->selector().params().lakhia.c_minCost);
+  }
+  const double expected = (0.5 + 1e-4 * tris) / cost;
   EXPECT_NEAR(rig.driver->measuredVTime(), expected, expected * 1e-9);
   EXPECT_DOUBLE_EQ(rig.driver->selector().vTime(), expected);
+  // The probe is not a frame of the session.
+  EXPECT_EQ(rig.driver->framesRendered(), 0u);
+  EXPECT_TRUE(rig.driver->recent().empty());
+}
+
+TEST(FrameDriver, StartProbesABudgetSizedFrontWhereHlod0AloneWouldMisjudgeTheMachine) {
+  // Finer triangles cost twice hlod_0's (nearer, larger on screen): hlod_0's v_time alone
+  // promised half of what the first frame then took, about 2x its budget.
+  for (double budget : {16.0, 33.0, 66.0}) {
+    Rig rig(heavyCity(), budget);
+    rig.renderer.deeperTriangleFactor = 2.0;
+    ASSERT_TRUE(rig.driver->start().ok());
+    auto r = rig.driver->renderFrame(rig.street(), FrameMode::Settled);
+    ASSERT_TRUE(r.ok()) << r.message();
+    EXPECT_EQ(r->index, 0u);
+    EXPECT_LE(r->gpuMs, 1.15 * budget) << "budget " << budget;
+    EXPECT_GT(r->gpuMs, 0.6 * budget) << "budget " << budget;
+    // No toggles against the probe: it had a selector of its own.
+    EXPECT_EQ(r->upToggles + r->downToggles, 0u);
+  }
+}
+
+TEST(FrameDriver, AGivenVTimeOrAnUnbudgetedSelectorSkipsTheProbe) {
+  for (auto [selector, given] : {std::pair{"lakhia", 3e-3}, {"sse", 0.0}, {"full", 0.0}}) {
+    Rig rig(heavyCity(), 33.0, selector);
+    ASSERT_TRUE(rig.driver->start(given).ok());
+    // Only hlod_0 was drawn (the warm-up and calibration draws): nothing finer was loaded.
+    EXPECT_EQ(rig.renderer.lastFront.size(), rig.source.skeleton().roots.size()) << selector;
+    EXPECT_EQ(rig.loader->counters().loadsFinished, rig.source.skeleton().roots.size()) << selector;
+  }
 }
 
 TEST(FrameDriver, AGivenVTimeIsUsedInsteadOfTheMeasuredOne) {
@@ -96,7 +134,8 @@ TEST(FrameDriver, AGivenVTimeIsUsedInsteadOfTheMeasuredOne) {
 
 TEST(FrameDriver, RealtimeFramesNeverWaitAndDrawCoarserUntilChildrenAreOnTheGpu) {
   Rig rig;
-  ASSERT_TRUE(rig.driver->start().ok());
+  // A known v_time: no probe, so only hlod_0 is on the GPU at the first frame.
+  ASSERT_TRUE(rig.driver->start(1e-4).ok());
   // Nothing loaded below hlod_0 yet: the frame draws hlod_0, coarser, without a stall.
   auto first = rig.driver->renderFrame(rig.street(), FrameMode::Realtime);
   ASSERT_TRUE(first.ok()) << first.message();

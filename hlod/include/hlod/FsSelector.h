@@ -13,6 +13,7 @@ class FsSelector final : public Selector {
  public:
   FsSelector(const Skeleton& skeleton, const SelectorParams& params = {});
   std::string_view name() const override { return "fs"; }
+  bool budgeted() const override { return true; }
   Selection select(const View& view, const Residency& residency) override;
 
  private:

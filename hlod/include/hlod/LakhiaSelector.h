@@ -40,6 +40,7 @@ class LakhiaSelector final : public Selector {
   LakhiaSelector(const Skeleton& skeleton, const SelectorParams& params = {});
 
   std::string_view name() const override { return "lakhia"; }
+  bool budgeted() const override { return true; }
   Selection select(const View& view, const Residency& residency) override;
 
   // Inspection for tests and debugging: the values of the last select().

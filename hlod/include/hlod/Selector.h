@@ -200,6 +200,8 @@ class Selector {
 
   virtual std::string_view name() const = 0;
   virtual Selection select(const View& view, const Residency& residency) = 0;
+  // Whether the front depends on the budget and v_time (not so for a fixed error or `full`).
+  virtual bool budgeted() const { return false; }
 
   // The measured drawing time of the frame drawn from the last selection (ms), without the
   // View::spentMs it was selected with: v_time is the drawing's ms per unit of cost.
@@ -217,6 +219,8 @@ class Selector {
   void setTargetMs(double ms) { params_.lakhia.c_targetTime = ms; }
   const SelectorParams& params() const { return params_; }
   const Skeleton& skeleton() const { return skeleton_; }
+  // The estimated cost of the last selection's front (what feedback() divides by).
+  double lastEstimatedCost() const { return lastEstimatedCost_; }
 
  protected:
   // Bookkeeping shared by all selectors: frame counter, toggles, the front and its counters.

@@ -6,6 +6,7 @@
 #include "hlod/Framing.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 
@@ -79,10 +80,13 @@ Status FrameDriver::start(double knownVTime) {
     if (auto u = renderer_.upload(1e300, 0); !u) return u.error();
 
   const Skeleton& skel = selector_->skeleton();
+  const bool known = knownVTime > 0.0 && std::isfinite(knownVTime);
+  // The whole model in view, upright, as its default view shows it.
+  const double aspect = static_cast<double>(options_.width) / options_.height;
+  const Camera cam = bounds_.empty() ? Camera{}
+                                     : frameBounds(bounds_, skel.up, defaultViewDirection(skel.up),
+                                                   60.0, aspect);
   if (!bounds_.empty()) {
-    // The whole model in view, upright, as its default view shows it.
-    const double aspect = static_cast<double>(options_.width) / options_.height;
-    const Camera cam = frameBounds(bounds_, skel.up, defaultViewDirection(skel.up), 60.0, aspect);
     const std::vector<std::uint32_t> front = nearToFar(skel, cam.position, skel.roots);
     // The first draw pays the first-use costs; the median of the next three is this machine's
     // speed (one timed draw on a shared machine was off by up to 1.7x in the first frame).
@@ -104,12 +108,54 @@ Status FrameDriver::start(double knownVTime) {
     const double perCost = timings[1].first;
     if (perCost > 0.0 && cost > 0.0) measuredVTime_ = perCost / cost;
   }
-  const double v = knownVTime > 0.0 ? knownVTime : measuredVTime_;
+  const double v = known ? knownVTime : measuredVTime_;
   if (v > 0.0 && std::isfinite(v)) {
     selector_->setVTime(v);
     if (prefetchSelector_) prefetchSelector_->setVTime(v);
   }
   if (options_.loaderThread) loader_.start();
+  if (!known && !bounds_.empty() && measuredVTime_ > 0.0 && selector_->budgeted())
+    return probeVTime(cam);
+  return Ok{};
+}
+
+// hlod_0 is few nodes, each drawn small: a front that fills the budget has many more draw calls
+// and larger triangles per unit of cost, and on llvmpipe took 1.16x (median) what hlod_0's
+// v_time promised (coldstart_bench). So v_time comes from such a front: the one the budget
+// selects for `camera`, loaded, drawn once to pay its first use, then timed (median of 3).
+Status FrameDriver::probeVTime(const Camera& camera) {
+  // Its own selector, so that the probe leaves no hysteresis or toggle history for frame 0.
+  auto probe = makeSelector(selector_->name(), selector_->skeleton(), selector_->params());
+  if (!probe) return probe.error();
+  (*probe)->setVTime(measuredVTime_);
+  std::swap(selector_, *probe);
+  CameraSample sample;
+  sample.camera = camera;
+  // A session that streams slowly (or --io-mbps) is not held up: what loads in a second is
+  // measured, coarser.
+  const auto settleTimeout = options_.settleTimeout;
+  options_.settleTimeout = std::min(settleTimeout, std::chrono::milliseconds(1000));
+  auto first = renderFrame(sample, FrameMode::Settled);
+  options_.settleTimeout = settleTimeout;
+  std::swap(selector_, *probe);
+  if (!first) return first.error();
+  const double cost = (*probe)->lastEstimatedCost();
+  std::array<double, 3> ms{};
+  for (double& t : ms) {
+    auto timed = renderer_.draw(camera, lastFront_);
+    if (!timed) return timed.error();
+    t = timed->ms - std::min(screenPassMs(*timed), timed->ms);
+  }
+  std::sort(ms.begin(), ms.end());
+  if (ms[1] > 0.0 && cost > 0.0) {
+    measuredVTime_ = ms[1] / cost;
+    selector_->setVTime(measuredVTime_);
+    if (prefetchSelector_) prefetchSelector_->setVTime(measuredVTime_);
+  }
+  // Not a frame of the session.
+  frames_ = 0;
+  recent_.clear();
+  lastFront_.clear();
   return Ok{};
 }
 

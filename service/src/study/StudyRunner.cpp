@@ -127,11 +127,15 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   stripAt.erase(std::unique(stripAt.begin(), stripAt.end()), stripAt.end());
   std::map<std::pair<std::size_t, double>, Measured> stripCells;  // (studied index, budget)
 
+  // Each run starts from the v_time the run before left, as the server's sessions do (only the
+  // first measures one: see FrameDriver::start).
+  double knownVTime = 0.0;
   for (const StudyConfig& c : configs) {
     SessionOptions so = base;
     so.selector = c.selector;
     so.budgetMs = c.budgetMs;
     so.selectorParams.ssePixels = c.ssePx > 0.0 ? c.ssePx : so.selectorParams.ssePixels;
+    so.knownVTime = knownVTime;
     auto s = Session::create(source, so, gl);
     if (!s) return hlod::makeError(c.label() + ": " + s.message());
     Run run;
@@ -191,6 +195,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
       step(c.label() + ", frame " + std::to_string(f));
     }
     run.summary = summarize(run.frames);
+    if ((*s)->selector().budgeted()) knownVTime = (*s)->selector().vTime();
     report.runs.push_back(std::move(run));
   }
   markParetoFront(report.runs);

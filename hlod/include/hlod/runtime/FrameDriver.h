@@ -99,7 +99,9 @@ class FrameDriver {
   // from a camera that frames the model: first-use costs (shader JIT, texture residency) are
   // not frame 0's. That draw measures this machine's ms per unit of cost, which the selectors
   // start from (so a session's first frame is budget-bound, not drawn at an arbitrary v_time),
-  // unless a v_time is given: one measured before (another session of the same store).
+  // unless a v_time is given: one measured before (another session of the same store). With a
+  // budgeted selector and no v_time given, one settled frame of that camera at the budget is
+  // then drawn and timed (probeVTime): no frame of the session, it only sets v_time.
   Status start(double knownVTime = 0.0);
 
   // One frame for `sample` (time = path time). lookahead: a camera further along a known path
@@ -117,11 +119,13 @@ class FrameDriver {
   const std::vector<std::uint32_t>& lastFront() const { return lastFront_; }
   // The last options().recentFrames records, oldest first.
   const std::deque<FrameRecord>& recent() const { return recent_; }
-  // The v_time start() measured (0 before start, or when it was given).
+  // The v_time start() measured (0 before start, or when it was given): the probe's where
+  // there was one, else hlod_0's.
   double measuredVTime() const { return measuredVTime_; }
 
  private:
   void drainLoader();
+  Status probeVTime(const Camera& camera);
 
   std::unique_ptr<Selector> selector_;
   std::unique_ptr<Selector> prefetchSelector_;
