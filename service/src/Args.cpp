@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace service {
@@ -85,6 +86,21 @@ hlod::Result<long long> Args::integer(const std::string& name, long long fallbac
     return hlod::makeError("--" + name + ": " + *v + " is outside [" + std::to_string(lo) + ", " +
                            std::to_string(hi) + "]");
   return x;
+}
+
+hlod::Result<Args::Size> Args::size(const std::string& name, const std::string& fallback, int lo,
+                                    int hi) const {
+  const std::string v = get(name, fallback);
+  Size out;
+  char extra = 0;
+  // Digits first and no sign or blank anywhere: sscanf alone takes " +1x2".
+  const bool plain = v.find_first_not_of("0123456789x") == std::string::npos;
+  if (!plain || std::sscanf(v.c_str(), "%dx%d%c", &out.width, &out.height, &extra) != 2 ||
+      out.width < lo || out.height < lo || out.width > hi || out.height > hi) {
+    return hlod::makeError("--" + name + " must look like " + fallback + " (" + std::to_string(lo) +
+                           ".." + std::to_string(hi) + " each side), not '" + v + "'");
+  }
+  return out;
 }
 
 }  // namespace service

@@ -94,8 +94,12 @@ TEST_F(HlodrCli, ReportsACorruptMeshWithoutCrashing) {
 }
 
 TEST_F(HlodrCli, RejectsBadOptionsWithUsageExitCode) {
-  EXPECT_EQ(
-      hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --size 9000x10").status, 1);
+  // A side past 8192 is a usage error before the model loads, with the range.
+  const auto huge = hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --size 9000x10");
+  EXPECT_EQ(huge.status, 2);
+  EXPECT_NE(huge.output.find("--size must look like 1280x720 (1..8192 each side), not '9000x10'"),
+            std::string::npos)
+      << huge.output;
   EXPECT_EQ(hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --size big").status,
             2);
   EXPECT_EQ(

@@ -26,6 +26,13 @@ class Args {
   hlod::Result<double> number(const std::string& name, double fallback, double lo, double hi) const;
   hlod::Result<long long> integer(const std::string& name, long long fallback, long long lo,
                                   long long hi) const;
+  // A frame size WxH (fallback when absent, and the message's example), each side in [lo, hi].
+  struct Size {
+    int width = 0;
+    int height = 0;
+  };
+  hlod::Result<Size> size(const std::string& name, const std::string& fallback, int lo,
+                          int hi) const;
 
  private:
   std::vector<std::string> positionals_;

@@ -87,14 +87,12 @@ int runCalibrate(const Argv& argv) {
       std::fprintf(stderr, "hlodr calibrate: %s\n%s", r->message().c_str(), kCalibrateUsage);
       return 2;
     }
-  int width = 1280, height = 720;
-  char extra = 0;
-  if (std::sscanf(args->get("size", "1280x720").c_str(), "%dx%d%c", &width, &height, &extra) != 2 ||
-      width < 1 || height < 1 || width > 8192 || height > 8192) {
-    std::fprintf(stderr, "hlodr calibrate: --size must look like 1280x720 (1x1 to 8192x8192)\n%s",
-                 kCalibrateUsage);
+  auto size = args->size("size", "1280x720", 1, 8192);
+  if (!size) {
+    std::fprintf(stderr, "hlodr calibrate: %s\n%s", size.message().c_str(), kCalibrateUsage);
     return 2;
   }
+  const int width = size->width, height = size->height;
   auto backend = renderer::backendFromEnvironment();
   if (!backend) {
     std::fprintf(stderr, "hlodr calibrate: %s\n", backend.message().c_str());

@@ -1,5 +1,6 @@
 #pragma once
 // Declarations of the subcommands listed in Cli.cpp. One file per command in this folder.
+#include <cstdio>
 #include <set>
 #include <string>
 #include <vector>
@@ -9,6 +10,15 @@
 namespace service::cmd {
 
 using Argv = std::vector<std::string>;
+
+// "hlodr CMD: MESSAGE" on stderr; returns code (1: failed, 2: bad usage).
+inline int commandError(const char* cmd, const std::string& message, int code = 1) {
+  std::fprintf(stderr, "hlodr %s: %s\n", cmd, message.c_str());
+  return code;
+}
+inline int usageError(const char* cmd, const std::string& message) {
+  return commandError(cmd, message, 2);
+}
 
 extern const char* const kCityUsage;
 int runCity(const Argv& args);

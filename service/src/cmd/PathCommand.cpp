@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 
 #include "cmd/Commands.h"
 #include "cmd/SceneArgs.h"
@@ -38,17 +37,6 @@ namespace {
 bool isStore(const fs::path& p) {
   std::error_code ec;
   return fs::is_directory(p, ec) && fs::exists(p / "skeleton.bin", ec);
-}
-
-bool parseSize(const std::string& s, int& w, int& h) {
-  char x = 0;
-  std::istringstream in(s);
-  return (in >> w >> x >> h) && x == 'x' && in.eof();
-}
-
-int usageError(const char* cmd, const std::string& message) {
-  std::fprintf(stderr, "hlodr %s: %s\n", cmd, message.c_str());
-  return 2;
 }
 
 }  // namespace
@@ -140,9 +128,10 @@ int runRenderPath(const Argv& argv) {
     return 2;
   }
   SessionOptions so;
-  if (!parseSize(args->get("size", "1280x720"), so.width, so.height) || so.width < 1 ||
-      so.height < 1 || so.width > 8192 || so.height > 8192)
-    return usageError("render", "--size must look like 1280x720 (at most 8192x8192)");
+  auto size = args->size("size", "1280x720", 1, 8192);
+  if (!size) return usageError("render", size.message());
+  so.width = size->width;
+  so.height = size->height;
   auto budget = args->number("budget-ms", 33.0, 0.01, 1e5);
   auto memory = args->number("memory-mb", 0.0, 0.0, 1e7);
   auto fps = args->number("fps", 30.0, 0.1, 1000.0);

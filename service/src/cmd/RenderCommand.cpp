@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <sstream>
 
 #include "cmd/Commands.h"
 #include "cmd/SceneArgs.h"
@@ -77,12 +76,6 @@ const char* const kRenderUsage =
 
 namespace {
 
-bool parseSize(const std::string& s, int& w, int& h) {
-  char x = 0;
-  std::istringstream in(s);
-  return (in >> w >> x >> h) && x == 'x' && in.eof();
-}
-
 // --camera PX,PY,PZ,TX,TY,TZ: six finite numbers, the position apart from the target. The
 // message says which value is wrong.
 hlod::Result<std::array<double, 6>> parseCamera(const std::string& s) {
@@ -147,10 +140,13 @@ int runRender(const Argv& argv) {
     }
   }
   renderer::RenderOptions options;
-  if (!parseSize(args->get("size", "1280x720"), options.width, options.height)) {
-    std::fprintf(stderr, "hlodr render: --size must look like 1280x720\n");
+  auto size = args->size("size", "1280x720", 1, 8192);
+  if (!size) {
+    std::fprintf(stderr, "hlodr render: %s\n", size.message().c_str());
     return 2;
   }
+  options.width = size->width;
+  options.height = size->height;
   auto fov = args->number("fov", 50.0, 1.0, 170.0);
   if (!fov) {
     std::fprintf(stderr, "hlodr render: %s\n", fov.message().c_str());

@@ -37,11 +37,6 @@ const char* const kStudyBuildUsage =
 
 namespace {
 
-int fail(const std::string& message, int code = 1) {
-  std::fprintf(stderr, "hlodr study-build: %s\n", message.c_str());
-  return code;
-}
-
 void printTable(const std::vector<hlod::study::SimplifierFigures>& figures) {
   std::printf("%-9s %5s %6s %10s %11s %11s %11s %9s %8s %8s %10s\n", "simplif.", "level", "nodes",
               "triangles", "hausdorff", "rms", "error est.", "flipped", "off", "build s",
@@ -67,9 +62,9 @@ int runStudyBuild(const Argv& argv) {
   auto args = Args::parse(argv, {"quiet"},
                           {"output", "simplifiers", "level-factor", "desired-tris", "max-block-tri",
                            "blocks", "samples"});
-  if (!args) return fail(args.message() + "\n" + kStudyBuildUsage, 2);
+  if (!args) return commandError("study-build", args.message() + "\n" + kStudyBuildUsage, 2);
   if (args->positionals().size() != 1)
-    return fail(std::string("give one MODEL (a city folder or a mesh file)\n") + kStudyBuildUsage,
+    return commandError("study-build", std::string("give one MODEL (a city folder or a mesh file)\n") + kStudyBuildUsage,
                 2);
   const auto levelFactor = args->integer("level-factor", 3, 2, 16);
   const auto desiredTri = args->integer("desired-tris", hlod::kDefaultDesiredTri, 16, 10000000);
@@ -78,7 +73,7 @@ int runStudyBuild(const Argv& argv) {
   const auto blockLimit = args->integer("blocks", 0, 0, 100000000);
   const auto samples = args->integer("samples", 20000, 100, 10000000);
   for (const auto* r : {&levelFactor, &desiredTri, &maxBlock, &blockLimit, &samples})
-    if (!*r) return fail(r->message(), 2);
+    if (!*r) return commandError("study-build", r->message(), 2);
   hlod::study::BuildStudyOptions o;
   o.build.levelFactor = int(*levelFactor);
   o.build.desiredTri = std::uint32_t(*desiredTri);
@@ -88,7 +83,7 @@ int runStudyBuild(const Argv& argv) {
   std::istringstream names(args->get("simplifiers", "meshopt,openmesh"));
   for (std::string name; std::getline(names, name, ',');) o.simplifiers.push_back(name);
   auto study = hlod::study::BuildStudy::create(o);
-  if (!study) return fail(study.message(), 2);
+  if (!study) return commandError("study-build", study.message(), 2);
 
   const std::string input = args->positionals()[0];
   ProgressLine lines("study-build", args->has("quiet"));
@@ -103,38 +98,38 @@ int runStudyBuild(const Argv& argv) {
   };
   if (hlod::isCityFolder(input)) {
     auto manifest = hlod::readCityManifest(input);
-    if (!manifest) return fail(manifest.message());
+    if (!manifest) return commandError("study-build", manifest.message());
     std::size_t n = manifest->blocks.size();
     if (*blockLimit > 0) n = std::min<std::size_t>(n, std::size_t(*blockLimit));
     for (std::size_t i = 0; i < n; ++i) {
       auto block = hlod::loadCityBlock(*manifest, i);
-      if (!block) return fail(block.message());
+      if (!block) return commandError("study-build", block.message());
       hlod::Model one;
       one.meshes.push_back(std::move(*block));
       if (auto s = add(hlod::cutIntoBlocks(one, o.build.maxBlockTriangles), n); !s)
-        return fail(s.message());
+        return commandError("study-build", s.message());
     }
   } else {
     auto model = hlod::importModel(input);
-    if (!model) return fail(model.message());
+    if (!model) return commandError("study-build", model.message());
     for (const auto& w : model->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     std::vector<hlod::Block> blocks = hlod::cutIntoBlocks(*model, o.build.maxBlockTriangles);
     if (*blockLimit > 0 && blocks.size() > std::size_t(*blockLimit)) blocks.resize(*blockLimit);
-    if (blocks.empty()) return fail(input + " has no triangles");
+    if (blocks.empty()) return commandError("study-build", input + " has no triangles");
     for (const hlod::Block& b : blocks)
-      if (auto s = add({b}, blocks.size()); !s) return fail(s.message());
+      if (auto s = add({b}, blocks.size()); !s) return commandError("study-build", s.message());
   }
   lines.done();
   printTable(study->figures());
   if (auto out = args->get("output")) {
     std::error_code ec;
     std::filesystem::create_directories(*out, ec);
-    if (ec) return fail("cannot create " + *out + ": " + ec.message());
+    if (ec) return commandError("study-build", "cannot create " + *out + ": " + ec.message());
     const std::filesystem::path dir(*out);
     for (auto [name, text] :
          {std::pair{"build-study.json", hlod::study::buildStudyJson(study->figures())},
           std::pair{"build-study.csv", hlod::study::buildStudyCsv(study->figures())}})
-      if (auto s = writeText(dir / name, text); !s) return fail(s.message());
+      if (auto s = writeText(dir / name, text); !s) return commandError("study-build", s.message());
   }
   return 0;
 }

@@ -56,77 +56,69 @@ hlod::Result<std::vector<double>> numberList(const std::string& s, double lo, do
   return out;
 }
 
-int fail(const std::string& message, int code = 1) {
-  std::fprintf(stderr, "hlodr study: %s\n", message.c_str());
-  return code;
-}
-
 }  // namespace
 
 int runStudy(const Argv& argv) {
   auto args = Args::parse(argv, {"quiet", "unlit", "no-textures", "fog"},
                           {"output", "path", "kind", "budgets", "selectors", "sse-px", "size",
                            "frames", "fps", "mode", "strips", "memory-mb", "scene"});
-  if (!args) return fail(args.message() + "\n" + kStudyUsage, 2);
+  if (!args) return commandError("study", args.message() + "\n" + kStudyUsage, 2);
   if (args->positionals().size() != 1)
-    return fail(std::string("give one node STORE (made by `hlodr build`)\n") + kStudyUsage, 2);
-  if (!args->has("output")) return fail(std::string("-o DIR is required\n") + kStudyUsage, 2);
+    return commandError("study", std::string("give one node STORE (made by `hlodr build`)\n") + kStudyUsage, 2);
+  if (!args->has("output")) return commandError("study", std::string("-o DIR is required\n") + kStudyUsage, 2);
   if (args->has("path") == args->has("kind"))
-    return fail("give the camera path: --path PATH.json or --kind walk-fly|drive|orbit", 2);
+    return commandError("study", "give the camera path: --path PATH.json or --kind walk-fly|drive|orbit", 2);
   StudyOptions o;
   auto budgets = numberList(args->get("budgets", "8,16,33,66,133"), 0.5, 10000, "budgets");
   auto sse = numberList(args->get("sse-px", "1,2,4,8,16,32"), 0.05, 10000, "sse-px");
-  if (!budgets) return fail(budgets.message(), 2);
-  if (!sse) return fail(sse.message(), 2);
+  if (!budgets) return commandError("study", budgets.message(), 2);
+  if (!sse) return commandError("study", sse.message(), 2);
   o.budgets = *budgets;
   o.ssePx = *sse;
   o.selectors.clear();
   std::istringstream sels(args->get("selectors", "lakhia,sse,fs"));
   for (std::string s; std::getline(sels, s, ',');) {
     if (s != "lakhia" && s != "sse" && s != "fs")
-      return fail("--selectors: '" + s + "' is not one of lakhia, sse, fs", 2);
+      return commandError("study", "--selectors: '" + s + "' is not one of lakhia, sse, fs", 2);
     o.selectors.push_back(s);
   }
-  {
-    char x = 0;
-    std::istringstream in(args->get("size", "640x360"));
-    if (!(in >> o.width >> x >> o.height) || x != 'x' || !in.eof() || o.width < 16 ||
-        o.height < 16 || o.width > 4096 || o.height > 4096)
-      return fail("--size must look like 640x360 (16..4096 each side)", 2);
-  }
+  auto size = args->size("size", "640x360", 16, 4096);
+  if (!size) return commandError("study", size.message(), 2);
+  o.width = size->width;
+  o.height = size->height;
   auto frames = args->integer("frames", 24, 1, 100000);
   auto fps = args->number("fps", 30.0, 1.0, 240.0);
   auto strips = args->integer("strips", 3, 0, 20);
   auto memory = args->number("memory-mb", 0.0, 0.0, 1e7);
-  if (!frames) return fail(frames.message(), 2);
-  if (!fps) return fail(fps.message(), 2);
-  if (!strips) return fail(strips.message(), 2);
-  if (!memory) return fail(memory.message(), 2);
+  if (!frames) return commandError("study", frames.message(), 2);
+  if (!fps) return commandError("study", fps.message(), 2);
+  if (!strips) return commandError("study", strips.message(), 2);
+  if (!memory) return commandError("study", memory.message(), 2);
   o.frames = std::size_t(*frames);
   o.fps = *fps;
   o.stripFrames = std::size_t(*strips);
   o.memoryCapBytes = std::uint64_t(*memory * 1048576.0);
   const std::string mode = args->get("mode", "settled");
   if (mode != "settled" && mode != "realtime" && mode != "both")
-    return fail("--mode must be settled, realtime or both", 2);
+    return commandError("study", "--mode must be settled, realtime or both", 2);
   o.settled = mode != "realtime";
   o.realtime = mode != "settled";
   // Stores do not keep the model's up axis yet: the study's paths are Z-up.
   auto declared = sceneFromArgs(*args, {0.0, 0.0, 1.0});
-  if (!declared) return fail(declared.message(), 2);
+  if (!declared) return commandError("study", declared.message(), 2);
   o.effects = declared->scene.effects;
 
   const std::string storePath = args->positionals()[0];
   if (!isNodeStore(storePath))
-    return fail(storePath +
+    return commandError("study", storePath +
                 " is not a node store (a folder with skeleton.bin; make one with "
                 "`hlodr build`)");
   auto store = hlod::NodeStore::open(storePath);
-  if (!store) return fail(storePath + ": " + store.message());
+  if (!store) return commandError("study", storePath + ": " + store.message());
   std::shared_ptr<const hlod::NodeStore> source(std::move(*store));
   auto path = args->has("path") ? hlod::CameraPath::read(args->get("path", ""))
                                 : hlod::makeCameraPath(args->get("kind", ""), source->skeleton());
-  if (!path) return fail("the camera path: " + path.message());
+  if (!path) return commandError("study", "the camera path: " + path.message());
 
   nlohmann::json settings = {
       {"store", storePath},
@@ -144,7 +136,7 @@ int runStudy(const Argv& argv) {
       source, *path, o, args->get("output", ""), settings,
       [&](const std::string& what, double fraction) { progress.update(fraction, what); });
   progress.done();
-  if (!report) return fail(report.message());
+  if (!report) return commandError("study", report.message());
   for (const auto& line : hlod::study::answer(report->runs).lines())
     std::printf("%s\n", line.c_str());
   std::printf("report: %s/index.html\n", args->get("output", "").c_str());
