@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "Places.h"
 #include "hlod/city/Geodesy.h"
 #include "renderer/FrameView.h"
 #include "renderer/GpuMesh.h"
@@ -22,12 +23,7 @@ namespace {
 constexpr double kNear = 0.1, kFar = 100000.0;
 constexpr double kGap = 0.01;  // metres between the facades
 
-struct Place {
-  std::string name;
-  std::unique_ptr<hlod::EnuFrame> enu;  // null: at the origin
-  glm::dvec3 point(const glm::dvec3& p) const { return enu ? enu->toEcef(p) : p; }
-  glm::dvec3 direction(const glm::dvec3& d) const { return enu ? enu->directionToEcef(d) : d; }
-};
+using hardcase::Place;
 
 // A facade in the plane y = y0 (facing -y), x in [x0, x1], z in [z0, z1], two triangles.
 hlod::Mesh facade(const Place& place, double y0, double x0, double x1, double z0, double z1,
@@ -58,10 +54,7 @@ TEST(DepthPrecision, AFacadeOneCentimetreInFrontOfAnotherAtFiveKilometresCoversI
   options.effects.shading = hlod::Shading::Unlit;
   auto r = renderer::Renderer::create(**ctx, options);
   ASSERT_TRUE(r.ok()) << r.message();
-  std::vector<Place> places;
-  places.push_back({"at the origin", nullptr});
-  places.push_back({"6,400 km from the origin",
-                    std::make_unique<hlod::EnuFrame>(hlod::LatLon{37.87, -122.27, 30.0})});
+  const std::vector<Place> places = hardcase::places();
   // Facades 2 km wide and 200 m tall at y = 5000; each view sees nothing but the front one.
   const std::vector<Viewpoint> views = {
       {"face-on", {0, 0, 100}, {0, 5000, 100}, 1.0},

@@ -12,6 +12,7 @@
 
 #include "HardcaseFolder.h"
 #include "hlod/HlodBuilder.h"
+#include "Places.h"
 #include "hlod/city/Geodesy.h"
 #include "renderer/FrameView.h"
 #include "renderer/GpuMesh.h"
@@ -35,23 +36,8 @@ double pixelsPerFrame() {
   return kStep * focal / kDistance;
 }
 
-// A frame in which to place the scene: the origin, or the ENU frame at Berkeley in ECEF.
-struct Place {
-  std::string name;
-  std::unique_ptr<hlod::EnuFrame> enu;  // null: local coordinates are world coordinates
-  glm::dvec3 point(const glm::dvec3& local) const { return enu ? enu->toEcef(local) : local; }
-  glm::dvec3 direction(const glm::dvec3& local) const {
-    return enu ? enu->directionToEcef(local) : local;
-  }
-};
-
-std::vector<Place> places() {
-  std::vector<Place> p;
-  p.push_back({"at the origin", nullptr});
-  p.push_back({"6,400 km from the origin (ECEF)",
-               std::make_unique<hlod::EnuFrame>(hlod::LatLon{37.87, -122.27, 30.0})});
-  return p;
-}
+using hardcase::Place;
+using hardcase::places;
 
 // The plate in the plane north = 0 (facing south, towards the camera), red, subdivided into a
 // grid of n x n quads so that a store builds levels of it.

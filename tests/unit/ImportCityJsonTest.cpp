@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ImportTestUtil.h"
+#include "SharedData.h"
 #include "hlod/Import.h"
 #include "hlod/city/Geodesy.h"
 #include "hlod/import/CityJsonPalette.h"
@@ -23,14 +24,6 @@ namespace {
 
 using nlohmann::json;
 using testing::TempDir;
-
-std::filesystem::path shared(const std::string& name) {
-  return std::filesystem::path(HLODR_SHARED_DATA) / name;
-}
-
-#define SKIP_IF_ABSENT(name)                  \
-  if (!std::filesystem::exists(shared(name))) \
-  GTEST_SKIP() << "shared data not found: " << shared(name)
 
 json readJson(const std::filesystem::path& p) {
   std::ifstream in(p);
@@ -213,14 +206,14 @@ TEST(CityJsonImport, AChosenLodImportsOnlyThatLevel) {
 }
 
 TEST(CityJsonImport, GeometryInstancesPlaceTheirTemplateScaledAtTheReferencePoint) {
-  SKIP_IF_ABSENT("cityjson-v2/geometry_instance.city.json");
+  SKIP_IF_SHARED_ABSENT("cityjson-v2/geometry_instance.city.json");
   // The conformance case instances a MultiPoint: nothing to draw, and a clear error says so.
   TempDir dir;
-  EXPECT_ERROR_HAS(importModel(shared("cityjson-v2/geometry_instance.city.json")),
+  EXPECT_ERROR_HAS(importModel(test::sharedData("cityjson-v2/geometry_instance.city.json")),
                    "no surfaces to triangulate (1 city objects");
   // With a unit square as the template: instance 0 scales it by 2 at (0,0,0), instance 1 keeps
   // it at (2,2,2).
-  json d = readJson(shared("cityjson-v2/geometry_instance.city.json"));
+  json d = readJson(test::sharedData("cityjson-v2/geometry_instance.city.json"));
   d["geometry-templates"]["templates"][0] = {
       {"type", "MultiSurface"}, {"lod", "1"}, {"boundaries", {{{0, 1, 2, 3}}}}};
   d["geometry-templates"]["vertices-templates"] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
@@ -233,12 +226,12 @@ TEST(CityJsonImport, GeometryInstancesPlaceTheirTemplateScaledAtTheReferencePoin
 }
 
 TEST(CityJsonImport, ASolidWithSemanticsIsColouredByThemAndByItsFaces) {
-  SKIP_IF_ABSENT("cityjson-v2/geometry_semantics_solid.city.json");
+  SKIP_IF_SHARED_ABSENT("cityjson-v2/geometry_semantics_solid.city.json");
   // A tetrahedron (0,0,0) (1,0,0) (0,1,0) (0,0,1), wound inwards in the file; three faces are
   // WallSurface, one has no semantics. Turned outwards: the "wall" at z = 0 faces down (ground),
   // the slanted one faces up (n.z = 0.58: roof), y = 0 stays a wall, and the unlabelled x = 0
   // face is a wall by its orientation.
-  auto m = importModel(shared("cityjson-v2/geometry_semantics_solid.city.json"));
+  auto m = importModel(test::sharedData("cityjson-v2/geometry_semantics_solid.city.json"));
   ASSERT_TRUE(m.ok()) << m.message();
   EXPECT_EQ(m->triangleCount(), 4u);
   EXPECT_NEAR(signedVolume(*m), 1.0 / 6.0, 1e-12);
@@ -253,11 +246,11 @@ TEST(CityJsonImport, ASolidWithSemanticsIsColouredByThemAndByItsFaces) {
 }
 
 TEST(CityJsonImport, Wgs84CoordinatesBecomeEastNorthUpMetres) {
-  SKIP_IF_ABSENT("cityjson-v2/coordinates_precision_wgs84.city.json");
+  SKIP_IF_SHARED_ABSENT("cityjson-v2/coordinates_precision_wgs84.city.json");
   // The case's five vertices are (lon, lat, h): (0,0,0), (180,90,10), (-180,-90,-10),
   // (180,-90,0), (-180,90,0); it has no surfaces and names no CRS, so the test adds EPSG:4979 and
   // the triangle equator - north pole (h 10) - south pole (h 0).
-  json d = readJson(shared("cityjson-v2/coordinates_precision_wgs84.city.json"));
+  json d = readJson(test::sharedData("cityjson-v2/coordinates_precision_wgs84.city.json"));
   d["metadata"] = {{"referenceSystem", "https://www.opengis.net/def/crs/EPSG/0/4979"}};
   d["CityObjects"] = {
       {"t", object({{{"type", "MultiSurface"}, {"lod", "1"}, {"boundaries", {{{0, 1, 3}}}}}})}};
@@ -450,7 +443,7 @@ TEST(CityJsonImport, DegenerateSurfacesAreSkippedWithACountedWarning) {
 // Each CityJSON 2.0 conformance case: the triangles it gives, or the error it must give. Most
 // cases test one feature on vertices along a line (no surface has area) or have no surfaces.
 TEST(CityJsonImport, EveryConformanceCaseImportsOrGivesItsExpectedError) {
-  SKIP_IF_ABSENT("cityjson-v2");
+  SKIP_IF_SHARED_ABSENT("cityjson-v2");
   const std::string none = "no surfaces to triangulate";
   const std::string flat = "surfaces have no area";
   const std::map<std::string, std::string> expected = {
@@ -489,7 +482,7 @@ TEST(CityJsonImport, EveryConformanceCaseImportsOrGivesItsExpectedError) {
       {"vertices", none},
   };
   std::size_t seen = 0, imported = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(shared("cityjson-v2"))) {
+  for (const auto& entry : std::filesystem::directory_iterator(test::sharedData("cityjson-v2"))) {
     std::string name = entry.path().filename().string();
     name = name.substr(0, name.find('.'));
     const auto it = expected.find(name);
@@ -517,9 +510,9 @@ TEST(CityJsonImport, EveryConformanceCaseImportsOrGivesItsExpectedError) {
 }
 
 TEST(CityJsonImport, RotterdamDelfshavenImportsItsBuildingsWithRoofsOnTop) {
-  SKIP_IF_ABSENT("rotterdam-delfshaven.cityjson.json");
+  SKIP_IF_SHARED_ABSENT("rotterdam-delfshaven.cityjson.json");
   const auto start = std::chrono::steady_clock::now();
-  auto m = importModel(shared("rotterdam-delfshaven.cityjson.json"));
+  auto m = importModel(test::sharedData("rotterdam-delfshaven.cityjson.json"));
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   ASSERT_TRUE(m.ok()) << m.message();

@@ -7,18 +7,15 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "SharedData.h"
 #include "hlod/Import.h"
 
 namespace hlod {
 namespace {
 
-std::filesystem::path shared(const std::string& name) {
-  return std::filesystem::path(HLODR_SHARED_DATA) / name;
-}
-
 // Imports a shared file (skipping when absent) and checks what every good import must give.
 Result<Model> importShared(const std::string& name) {
-  const auto path = shared(name);
+  const auto path = test::sharedData(name);
   const auto start = std::chrono::steady_clock::now();
   auto model = importModel(path);
   const double ms =
@@ -36,12 +33,8 @@ Result<Model> importShared(const std::string& name) {
   return model;
 }
 
-#define SKIP_IF_ABSENT(name)                  \
-  if (!std::filesystem::exists(shared(name))) \
-  GTEST_SKIP() << "shared data file " << shared(name) << " is absent"
-
 TEST(RealDataImport, ReadsStanfordBunnyOff) {
-  SKIP_IF_ABSENT("bunny00.off");
+  SKIP_IF_SHARED_ABSENT("bunny00.off");
   auto model = importShared("bunny00.off");
   ASSERT_TRUE(model.ok()) << model.message();
   ASSERT_EQ(model->meshes.size(), 1u);
@@ -50,8 +43,8 @@ TEST(RealDataImport, ReadsStanfordBunnyOff) {
 }
 
 TEST(RealDataImport, ReadsElephantAndArmadilloOff) {
-  SKIP_IF_ABSENT("refined_elephant.off");
-  SKIP_IF_ABSENT("armadillo.off");
+  SKIP_IF_SHARED_ABSENT("refined_elephant.off");
+  SKIP_IF_SHARED_ABSENT("armadillo.off");
   auto elephant = importShared("refined_elephant.off");
   ASSERT_TRUE(elephant.ok()) << elephant.message();
   EXPECT_EQ(elephant->meshes[0].positions.size(), 44460u);
@@ -63,7 +56,7 @@ TEST(RealDataImport, ReadsElephantAndArmadilloOff) {
 }
 
 TEST(RealDataImport, ReadsBinaryStlHeadAndMergesCorners) {
-  SKIP_IF_ABSENT("head.stl");
+  SKIP_IF_SHARED_ABSENT("head.stl");
   auto model = importShared("head.stl");
   ASSERT_TRUE(model.ok()) << model.message();
   EXPECT_EQ(model->triangleCount(), 117694u);
@@ -72,7 +65,7 @@ TEST(RealDataImport, ReadsBinaryStlHeadAndMergesCorners) {
 }
 
 TEST(RealDataImport, ReadsTwoCylinderEngineGlb) {
-  SKIP_IF_ABSENT("2CylinderEngine.glb");
+  SKIP_IF_SHARED_ABSENT("2CylinderEngine.glb");
   auto model = importShared("2CylinderEngine.glb");
   ASSERT_TRUE(model.ok()) << model.message();
   // 29 meshes with 75,730 triangles, instanced by 82 nodes into 115 primitives: every instance
@@ -83,7 +76,7 @@ TEST(RealDataImport, ReadsTwoCylinderEngineGlb) {
 }
 
 TEST(RealDataImport, ReadsPeterbiltObjWithMaterials) {
-  SKIP_IF_ABSENT("peterbilt/peterbilt.obj");
+  SKIP_IF_SHARED_ABSENT("peterbilt/peterbilt.obj");
   auto model = importShared("peterbilt/peterbilt.obj");
   ASSERT_TRUE(model.ok()) << model.message();
   EXPECT_EQ(model->triangleCount(), 116501u);
