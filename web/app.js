@@ -96,9 +96,19 @@ function applySettings() {
   if (scene) viewer.configure(scene, readSettings());
 }
 
+// Walk-fly and drive follow a z-up street grid (the API refuses them elsewhere): other stores
+// are offered the orbit only.
+function offerPathKinds(zUp) {
+  for (const select of [$('#path-kind'), document.querySelector('[name="study-path"]')]) {
+    for (const option of select.options) option.disabled = !zUp && option.value !== 'orbit';
+    if (select.selectedOptions[0] && select.selectedOptions[0].disabled) select.value = 'orbit';
+  }
+}
+
 function selectScene(id) {
   scene = scenes.find((s) => s.id === id) || null;
   if (!scene) return;
+  offerPathKinds(!scene.up || scene.up[2] === 1);
   const t = scene.triangles || {};
   $('#scene-info').textContent =
     `${formatCount(scene.nodes)} nodes · ${scene.levels} levels · ` +
