@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "CachedStore.h"
 #include "hlod/City.h"
 #include "hlod/HlodBuilder.h"
 #include "hlod/NodeStore.h"
@@ -28,25 +29,25 @@ fs::path testRoot() {
 }
 
 // Two city blocks with small textures and small leaves, so the tree has several levels.
+// Read only: one store for all the test processes (CachedStore.h).
 const fs::path& tinyStore() {
-  static const fs::path store = [] {
-    const fs::path dir = testRoot() / "tiny.hlod";
-    fs::create_directories(testRoot());
+  static const fs::path store = gltest::cachedStore("tiny.hlod", [](const fs::path& dir) {
     hlod::BuildOptions bo;
     bo.desiredTri = 1500;
     auto builder = hlod::HlodBuilder::create(dir, bo);
     EXPECT_TRUE(builder.ok()) << builder.message();
-    if (!builder) return dir;
+    if (!builder) return false;
     hlod::CityOptions co;
     co.textureSize = 64;
     for (int i = 0; i < 2; ++i) {
       auto s = (*builder)->addBlock(hlod::generateBlock(co, i));
       EXPECT_TRUE(s.ok()) << s.message();
+      if (!s) return false;
     }
     auto skel = (*builder)->finish(0.0);
     EXPECT_TRUE(skel.ok()) << skel.message();
-    return dir;
-  }();
+    return skel.ok();
+  });
   return store;
 }
 
@@ -189,8 +190,7 @@ TEST_F(SessionTest, TwoSessionsRunSideBySideOnOneThread) {
   const auto samples = path->sampleAt(10.0, 160.0 / 90.0);
   for (int i = 0; i < 4; ++i) {
     ASSERT_TRUE((*a)->renderFrame(samples[i], hlod::FrameMode::Settled).ok());
-    ASSERT_TRUE(
-        (*b)->renderFrame(samples[samples.size() - 1 - i], hlod::FrameMode::Realtime).ok());
+    ASSERT_TRUE((*b)->renderFrame(samples[samples.size() - 1 - i], hlod::FrameMode::Realtime).ok());
   }
   EXPECT_EQ((*a)->recent().size(), 4u);
   EXPECT_EQ((*b)->recent().size(), 4u);

@@ -17,6 +17,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "../gl/CachedStore.h"
 #include "hlod/City.h"
 #include "hlod/HlodBuilder.h"
 #include "service/Server.h"
@@ -39,13 +40,16 @@ void makeScene() {
   made = true;
   fs::remove_all(dataDir());
   fs::create_directories(dataDir());
-  hlod::CityOptions c;
-  c.blocks = 2;
-  c.textureSize = 128;
-  ASSERT_TRUE(hlod::writeCity(dataDir() / "src" / "city", c, {}).ok());
-  ASSERT_TRUE(hlod::buildStoreFromCity(dataDir() / "src" / "city", dataDir() / "city.hlod",
-                                       hlod::BuildOptions{}, {})
-                  .ok());
+  // Built once for all the test processes (CachedStore.h), copied: tests write beside it.
+  const fs::path built = gltest::cachedStore("city", [](const fs::path& dir) {
+    hlod::CityOptions c;
+    c.blocks = 2;
+    c.textureSize = 128;
+    return hlod::writeCity(dir / "src", c, {}).ok() &&
+           hlod::buildStoreFromCity(dir / "src", dir / "city.hlod", hlod::BuildOptions{}, {}).ok();
+  });
+  ASSERT_FALSE(built.empty()) << "the test city did not build";
+  fs::copy(built / "city.hlod", dataDir() / "city.hlod", fs::copy_options::recursive);
   // Not a store: a folder the scene scan must ignore, and a broken store it must skip.
   fs::create_directories(dataDir() / "notes.hlod");
   fs::create_directories(dataDir() / "broken.hlod");

@@ -14,6 +14,6 @@ inline std::filesystem::path sharedData(const std::string& name) {
 
 }  // namespace hlod::test
 
-#define SKIP_IF_SHARED_ABSENT(name)                               \
+#define SKIP_IF_SHARED_ABSENT(name)                             \
   if (!std::filesystem::exists(::hlod::test::sharedData(name))) \
   GTEST_SKIP() << "shared data not found: " << ::hlod::test::sharedData(name)

@@ -51,7 +51,8 @@ class SimulatedRenderer final : public NodeRenderer {
     for (std::uint32_t n : front) {
       if (!onGpu_.isResident(n)) return makeError("drew a node that is not on the GPU");
       d.triangles += triangles_.at(n);
-      weighted += static_cast<double>(triangles_.at(n)) * (levels_.at(n) > 0 ? deeperTriangleFactor : 1.0);
+      weighted +=
+          static_cast<double>(triangles_.at(n)) * (levels_.at(n) > 0 ? deeperTriangleFactor : 1.0);
     }
     const double geometry = msPerFrame + msPerTriangle * weighted;
     d.ms = geometry + msScreenPass;

@@ -64,8 +64,9 @@ int runStudyBuild(const Argv& argv) {
                            "blocks", "samples"});
   if (!args) return commandError("study-build", args.message() + "\n" + kStudyBuildUsage, 2);
   if (args->positionals().size() != 1)
-    return commandError("study-build", std::string("give one MODEL (a city folder or a mesh file)\n") + kStudyBuildUsage,
-                2);
+    return commandError(
+        "study-build",
+        std::string("give one MODEL (a city folder or a mesh file)\n") + kStudyBuildUsage, 2);
   const auto levelFactor = args->integer("level-factor", 3, 2, 16);
   const auto desiredTri = args->integer("desired-tris", hlod::kDefaultDesiredTri, 16, 10000000);
   const auto maxBlock =

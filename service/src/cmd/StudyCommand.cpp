@@ -64,10 +64,13 @@ int runStudy(const Argv& argv) {
                            "frames", "fps", "mode", "strips", "memory-mb", "scene"});
   if (!args) return commandError("study", args.message() + "\n" + kStudyUsage, 2);
   if (args->positionals().size() != 1)
-    return commandError("study", std::string("give one node STORE (made by `hlodr build`)\n") + kStudyUsage, 2);
-  if (!args->has("output")) return commandError("study", std::string("-o DIR is required\n") + kStudyUsage, 2);
+    return commandError(
+        "study", std::string("give one node STORE (made by `hlodr build`)\n") + kStudyUsage, 2);
+  if (!args->has("output"))
+    return commandError("study", std::string("-o DIR is required\n") + kStudyUsage, 2);
   if (args->has("path") == args->has("kind"))
-    return commandError("study", "give the camera path: --path PATH.json or --kind walk-fly|drive|orbit", 2);
+    return commandError("study",
+                        "give the camera path: --path PATH.json or --kind walk-fly|drive|orbit", 2);
   StudyOptions o;
   auto budgets = numberList(args->get("budgets", "8,16,33,66,133"), 0.5, 10000, "budgets");
   auto sse = numberList(args->get("sse-px", "1,2,4,8,16,32"), 0.05, 10000, "sse-px");
@@ -110,9 +113,10 @@ int runStudy(const Argv& argv) {
 
   const std::string storePath = args->positionals()[0];
   if (!isNodeStore(storePath))
-    return commandError("study", storePath +
-                " is not a node store (a folder with skeleton.bin; make one with "
-                "`hlodr build`)");
+    return commandError("study",
+                        storePath +
+                            " is not a node store (a folder with skeleton.bin; make one with "
+                            "`hlodr build`)");
   auto store = hlod::NodeStore::open(storePath);
   if (!store) return commandError("study", storePath + ": " + store.message());
   std::shared_ptr<const hlod::NodeStore> source(std::move(*store));
