@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "HardcaseFolder.h"
-#include "hlod/HlodBuilder.h"
 #include "Places.h"
+#include "hlod/HlodBuilder.h"
 #include "hlod/city/Geodesy.h"
 #include "renderer/FrameView.h"
 #include "renderer/GpuMesh.h"
