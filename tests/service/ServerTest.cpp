@@ -20,6 +20,7 @@
 #include "../gl/CachedStore.h"
 #include "hlod/City.h"
 #include "hlod/HlodBuilder.h"
+#include "hlod/Import.h"
 #include "service/Server.h"
 
 namespace fs = std::filesystem;
@@ -227,6 +228,86 @@ TEST_F(ServerTest, RenderTakesASceneInlineOrAsAFileAndRunsOnlyItsPasses) {
   auto outside = post("/api/render", {{"scene", "../x.json"}});
   ASSERT_TRUE(outside);
   EXPECT_EQ(outside->status, 400);
+}
+
+// A scene file's camera: listed with its effects for the page, the camera a session starts
+// from, and where an orbit job starts (its first frame is the scene camera's view, not the
+// store's framing).
+TEST_F(ServerTest, ASceneFilesCameraStartsItsSessionsAndItsOrbitJobs) {
+  start();
+  auto listed = client().Get("/api/scenes");
+  ASSERT_TRUE(listed);
+  const json city = parse(listed)["scenes"][0];
+  // From the other side of the model, lower and nearer than the store's framing.
+  const json lo = city["bounds"]["min"], hi = city["bounds"]["max"];
+  const double cx = (lo[0].get<double>() + hi[0].get<double>()) / 2;
+  const double cy = (lo[1].get<double>() + hi[1].get<double>()) / 2;
+  const double span = hi[0].get<double>() - lo[0].get<double>();
+  const json camera = {{"position", {cx + 0.6 * span, cy + 0.5 * span, 0.3 * span}},
+                       {"target", {cx, cy, 0}},
+                       {"fov", 40}};
+  const json effects = {{"shading", "lambert"}, {"sun", true}};
+  std::ofstream(dataDir() / "corner.json")
+      << json{{"store", "city.hlod"}, {"camera", camera}, {"effects", effects}}.dump();
+  std::ofstream(dataDir() / "path.json") << R"({"keyframes": []})";  // not a scene: not listed
+  listed = client().Get("/api/scenes");
+  // Other tests of this process may have left scene files of their own.
+  json corner, notAScene;
+  const json listing = parse(listed);
+  for (const json& f : listing["scenes"][0]["sceneFiles"]) {
+    if (f["name"] == "corner.json") corner = f;
+    if (f["name"] == "path.json") notAScene = f;
+  }
+  EXPECT_EQ(corner["effects"], json({"lambert", "sun"})) << listed->body;
+  EXPECT_TRUE(notAScene.is_null()) << listed->body;
+
+  auto session = post("/api/sessions", {{"scene", "corner.json"}, {"width", 96}, {"height", 64}});
+  ASSERT_TRUE(session);
+  ASSERT_EQ(session->status, 201) << session->body;
+  const json start = parse(session)["defaultCamera"];
+  for (int i = 0; i < 3; ++i)
+    EXPECT_DOUBLE_EQ(start["position"][i].get<double>(), camera["position"][i].get<double>());
+  EXPECT_DOUBLE_EQ(start["fov"].get<double>(), 40.0);
+
+  // The job's first frame against two renders at full detail: the scene file's camera and the
+  // store's framing (the same effects inline, no camera).
+  auto imageOf = [](const std::string& bytes, const char* name) {
+    const fs::path file = dataDir() / name;
+    std::ofstream(file, std::ios::binary) << bytes;
+    auto img = hlod::loadImage(file);
+    EXPECT_TRUE(img) << img.message();
+    return img ? *img : hlod::Image{};
+  };
+  auto render = [&](const json& scene) {
+    auto r = post(
+        "/api/render",
+        {{"scene", scene}, {"width", 96}, {"height", 64}, {"selector", "full"}, {"format", "png"}});
+    EXPECT_TRUE(r && r->status == 200) << (r ? r->body : "no answer");
+    return r ? imageOf(r->body, "render.png") : hlod::Image{};
+  };
+  const hlod::Image atScene = render("corner.json");
+  const hlod::Image framed = render(json{{"store", "city"}, {"effects", effects}});
+  const std::string id = newJob({{"scene", "corner.json"},
+                                 {"frames", 1},
+                                 {"mode", "settled"},
+                                 {"selector", "full"},
+                                 {"width", 96},
+                                 {"height", 64}});
+  ASSERT_EQ(waitForJob(id)["state"], "done");
+  auto frame = client().Get(("/api/jobs/" + id + "/frames/0").c_str());
+  ASSERT_TRUE(frame);
+  ASSERT_EQ(frame->status, 200);
+  const hlod::Image first = imageOf(frame->body, "frame0.jpg");
+  auto meanAbs = [](const hlod::Image& a, const hlod::Image& b) {
+    EXPECT_EQ(a.pixels.size(), b.pixels.size());
+    double sum = 0;
+    for (std::size_t i = 0; i < std::min(a.pixels.size(), b.pixels.size()); ++i)
+      sum += std::abs(int(a.pixels[i]) - int(b.pixels[i]));
+    return sum / double(std::max<std::size_t>(1, a.pixels.size()));
+  };
+  const double toScene = meanAbs(first, atScene), toFramed = meanAbs(first, framed);
+  EXPECT_LT(toScene, 4.0);  // JPEG at quality 85
+  EXPECT_GT(toFramed, 3.0 * toScene) << toScene << " against " << toFramed;
 }
 
 TEST_F(ServerTest, BadInputIsA4xxThatNamesTheFieldAndTheServerKeepsServing) {

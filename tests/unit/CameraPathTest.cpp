@@ -1,5 +1,6 @@
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -364,6 +365,38 @@ TEST(CameraPathGenerators, OrbitKeepsTheWholeModelInView) {
   }
   EXPECT_FALSE(makeCameraPath("spiral", sk).ok());
   EXPECT_FALSE(makeOrbitPath(Skeleton{}).ok());
+}
+
+// A scene file's camera as the start of a path job's orbit.
+TEST(CameraPathGenerators, OrbitFromACameraStartsThereAndCirclesItsTarget) {
+  Camera start;
+  start.position = {-180, -260, 160};
+  start.target = {420, 420, 0};
+  start.fovY = 50;
+  auto path = makeOrbitPathFrom(start, UpAxis::Z, 20.0);
+  ASSERT_TRUE(path.ok()) << path.message();
+  EXPECT_DOUBLE_EQ(path->duration(), 20.0);
+  const CameraSample first = path->sample(0.0);
+  EXPECT_LT(glm::length(first.camera.position - start.position), 1e-9);
+  const double rho = glm::length(glm::dvec2(start.position - start.target));
+  double turned = 0.0;
+  glm::dvec2 previous(start.position - start.target);
+  for (const CameraSample& s : path->sampleAt(10.0)) {
+    const glm::dvec3 offset = s.camera.position - start.target;
+    EXPECT_NEAR(glm::length(glm::dvec2(offset)), rho, 1e-4 * rho);  // on the circle
+    EXPECT_NEAR(offset.z, 160.0, 1e-9);                             // at the camera's height
+    EXPECT_LT(glm::length(s.camera.target - start.target), 1e-9);
+    EXPECT_DOUBLE_EQ(s.camera.fovY, 50.0);
+    const glm::dvec2 now(offset);
+    turned += std::atan2(previous.x * now.y - previous.y * now.x, glm::dot(previous, now));
+    previous = now;
+  }
+  EXPECT_NEAR(std::abs(turned), 2.0 * std::numbers::pi, 1e-6);  // once round, back at the start
+  // Straight down the up axis there is no circle to follow: an error, not NaN.
+  start.position = {420, 420, 500};
+  auto above = makeOrbitPathFrom(start, UpAxis::Z);
+  ASSERT_FALSE(above.ok());
+  EXPECT_NE(above.message().find("up axis"), std::string::npos);
 }
 
 }  // namespace

@@ -111,6 +111,10 @@ Result<CameraPath> makeDrivePath(const Skeleton& skeleton);
 // aspect: the width / height the path is meant for (a portrait frame moves the camera back).
 Result<CameraPath> makeOrbitPath(const Skeleton& skeleton, double duration = 30.0,
                                  double fovY = 60.0, double aspect = 16.0 / 9.0);
+// An orbit that starts at `start`: the circle around the up axis through its target that passes
+// through its position, looking at the target, at its fov, once round in `duration` seconds (a
+// scene file's camera for a path job). An Error when the camera looks straight along the up axis.
+Result<CameraPath> makeOrbitPathFrom(const Camera& start, UpAxis up, double duration = 30.0);
 // "walk-fly", "drive" or "orbit".
 Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton);
 // The same keyframes with their times scaled about the start so that the path lasts `seconds`.

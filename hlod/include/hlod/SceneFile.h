@@ -91,6 +91,10 @@ struct SceneFile {
 // The effect names a scene may declare, in the order docs/scene.md lists them.
 const std::vector<std::string>& knownEffects();
 
+// What a scene turns on, for people: the shading's name unless unlit, then "textures", "sun",
+// "sky", "fog", "shadows", "ssao", "outline" where declared (the page's scene picker shows it).
+std::vector<std::string> declaredEffects(const SceneEffects& effects);
+
 // Parses a scene from JSON text. Errors name the field ("effects.fog.density: must be a number
 // in 0..1 (got -1)"); an unknown effect lists the known ones.
 Result<SceneFile> parseScene(const std::string& text);

@@ -298,6 +298,20 @@ SceneEffects defaultEffects() {
   return e;
 }
 
+std::vector<std::string> declaredEffects(const SceneEffects& e) {
+  std::vector<std::string> out;
+  if (e.shading == Shading::Lambert) out.push_back("lambert");
+  if (e.shading == Shading::BlinnPhong) out.push_back("blinn-phong");
+  if (e.textures) out.push_back("textures");
+  if (e.sun) out.push_back("sun");
+  if (e.background.sky) out.push_back("sky");
+  if (e.fog) out.push_back("fog");
+  if (e.shadows) out.push_back("shadows");
+  if (e.ssao) out.push_back("ssao");
+  if (e.outline) out.push_back("outline");
+  return out;
+}
+
 const std::vector<std::string>& knownEffects() {
   static const std::vector<std::string> names = {"textures", "shading", "sun",    "fog",
                                                  "shadows",  "ssao",    "outline"};

@@ -3,6 +3,7 @@
 // its timings, and the render settings a request carries (validated in one place).
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -52,8 +53,9 @@ struct RenderSettings {
   double ssePx = 16.0;
   std::uint64_t memoryCapBytes = 0;
   hlod::SceneEffects effects = hlod::defaultEffects();  // from the request's `scene`
-  std::string effectsKey;   // SceneChoice::key: equal effects, equal key
-  std::string key() const;  // equal for settings that can share a warm session
+  std::string effectsKey;                   // SceneChoice::key: equal effects, equal key
+  std::optional<hlod::SceneCamera> camera;  // the scene file's: where sessions and orbits start
+  std::string key() const;                  // equal for settings that can share a warm session
   nlohmann::json json() const;
 };
 

@@ -167,7 +167,15 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
   http.Get("/api/scenes", [&](const Request&, Response& res) {
     api.scenes.scan(api.log);  // stores built since the start appear
     nlohmann::json list = nlohmann::json::array();
-    for (const auto& s : api.scenes.all()) list.push_back(s->summary());
+    for (const auto& s : api.scenes.all()) {
+      nlohmann::json j = s->summary();
+      // The scene files on this store, for the page's scene picker.
+      j["sceneFiles"] = nlohmann::json::array();
+      for (const auto& [name, file] : api.scenes.sceneFilesOf(s->id))
+        j["sceneFiles"].push_back(
+            {{"name", name}, {"effects", hlod::declaredEffects(file.effects)}});
+      list.push_back(std::move(j));
+    }
     sendJson(res, 200, {{"scenes", list}});
   });
 
@@ -190,19 +198,13 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     auto scene = choice->store;
     auto settings = readRenderSettings(*in, api.maxSize, false);
     if (!settings) return sendError(res, settings.error());
-    settings->effects = choice->effects;
-    settings->effectsKey = choice->key;
+    choice->applyTo(*settings);
     auto image = readImageRequest(*in);
     if (!image) return sendError(res, image.error());
     auto mode = in->choice("mode", "settled", {"settled", "realtime"});
     if (!mode) return sendError(res, badRequest(mode.message()));
-    hlod::Camera camera = scene->defaultCamera(double(settings->width) / settings->height);
-    if (const auto& c = choice->camera) {
-      camera.position = c->position;
-      camera.target = c->target;
-      camera.up = c->up.value_or(camera.up);
-      camera.fovY = c->fov;
-    }
+    hlod::Camera camera =
+        scene->defaultCamera(double(settings->width) / settings->height, settings->camera);
     if (in->has("camera")) {
       auto c = cameraFrom(in->json()["camera"], camera);
       if (!c) return sendError(res, badRequest(c.message()));
@@ -228,8 +230,7 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     auto scene = choice->store;
     auto settings = readRenderSettings(*in, api.maxSize, true);
     if (!settings) return sendError(res, settings.error());
-    settings->effects = choice->effects;
-    settings->effectsKey = choice->key;
+    choice->applyTo(*settings);
     auto slot = admit(api, res);
     if (!slot) return;
     auto made = api.sessions.create(scene, *settings);
@@ -277,8 +278,7 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
     auto scene = choice->store;
     auto render = readRenderSettings(*in, api.maxSize, true);
     if (!render) return sendError(res, render.error());
-    render->effects = choice->effects;
-    render->effectsKey = choice->key;
+    choice->applyTo(*render);
     JobSettings s;
     s.render = *render;
     auto fps = in->number("fps", 30.0, 1.0, 240.0);

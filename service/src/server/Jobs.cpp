@@ -220,10 +220,17 @@ JobManager::~JobManager() = default;
 
 ApiResult<std::shared_ptr<hlod::CameraPath>> JobManager::pathOf(const Scene& scene,
                                                                 const JobSettings& settings) {
-  // The path: generated for the scene, or given.
+  // The path: generated for the scene, or given. A scene file's camera is where an orbit starts.
   hlod::Result<hlod::CameraPath> path = hlod::makeError("no path");
   if (settings.path.contains("kind")) {
-    path = hlod::makeCameraPath(settings.path["kind"].get<std::string>(), scene.store->skeleton());
+    const std::string kind = settings.path["kind"].get<std::string>();
+    const hlod::Skeleton& sk = scene.store->skeleton();
+    if (kind == "orbit" && settings.render.camera) {
+      const double aspect = double(settings.render.width) / settings.render.height;
+      path = hlod::makeOrbitPathFrom(scene.defaultCamera(aspect, settings.render.camera), sk.up);
+    } else {
+      path = hlod::makeCameraPath(kind, sk);
+    }
     if (path && settings.path.contains("duration"))
       path = hlod::withDuration(*path, settings.path["duration"].get<double>());
   } else {

@@ -6,20 +6,6 @@
 
 namespace service::server {
 
-namespace {
-
-// "city.hlod", "../out/city.hlod" and "city" all name store "city": the server knows its stores
-// by folder name, so a scene file written for the command line works here too.
-std::string storeId(const std::string& path) {
-  std::string store = std::filesystem::path(path).filename().string();
-  const std::string suffix = ".hlod";
-  if (store.size() > suffix.size() && store.ends_with(suffix))
-    store.resize(store.size() - suffix.size());
-  return store;
-}
-
-}  // namespace
-
 ApiResult<SceneChoice> readSceneChoice(const nlohmann::json& value, const SceneRegistry& scenes) {
   SceneChoice choice;
   hlod::SceneFile file;
@@ -51,7 +37,7 @@ ApiResult<SceneChoice> readSceneChoice(const nlohmann::json& value, const SceneR
   } else {
     return badRequest("scene: must be a store id, a scene file name (NAME.json) or a scene object");
   }
-  const std::string id = storeId(file.store);
+  const std::string id = SceneRegistry::storeIdOf(file.store);
   choice.store = scenes.find(id);
   if (!choice.store) return notFound("no scene '" + id + "'");
   choice.effects = file.effects;

@@ -19,6 +19,12 @@ struct SceneChoice {
   hlod::SceneEffects effects = hlod::defaultEffects();
   std::optional<hlod::SceneCamera> camera;  // the scene file's default camera
   std::string key;  // equal for equal effects: part of a warm session's key ("" for defaults)
+  // Its effects, key and camera into the settings of a render, session or job.
+  void applyTo(RenderSettings& settings) const {
+    settings.effects = effects;
+    settings.effectsKey = key;
+    settings.camera = camera;
+  }
 };
 
 ApiResult<SceneChoice> readSceneChoice(const nlohmann::json& value, const SceneRegistry& scenes);

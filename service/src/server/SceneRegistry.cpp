@@ -8,7 +8,8 @@ namespace service::server {
 
 namespace fs = std::filesystem;
 
-hlod::Camera Scene::defaultCamera(double aspect) const {
+hlod::Camera Scene::defaultCamera(double aspect,
+                                  const std::optional<hlod::SceneCamera>& sceneCamera) const {
   hlod::Aabb bounds;
   const hlod::Skeleton& sk = store->skeleton();
   for (std::uint32_t r : sk.roots) bounds.extend(sk.nodes[r].bounds);
@@ -19,6 +20,12 @@ hlod::Camera Scene::defaultCamera(double aspect) const {
   c.up = pose.up;
   c.fovY = pose.fovY;
   c.aspect = aspect;
+  if (sceneCamera) {
+    c.position = sceneCamera->position;
+    c.target = sceneCamera->target;
+    c.up = sceneCamera->up.value_or(c.up);
+    c.fovY = sceneCamera->fov;
+  }
   return c;
 }
 
@@ -156,6 +163,39 @@ std::shared_ptr<Scene> SceneRegistry::find(const std::string& id) const {
   std::lock_guard lock(mutex_);
   auto it = scenes_.find(id);
   return it == scenes_.end() ? nullptr : it->second;
+}
+
+std::string SceneRegistry::storeIdOf(const std::string& storePath) {
+  std::string store = fs::path(storePath).filename().string();
+  const std::string suffix = ".hlod";
+  if (store.size() > suffix.size() && store.ends_with(suffix))
+    store.resize(store.size() - suffix.size());
+  return store;
+}
+
+std::vector<std::pair<std::string, hlod::SceneFile>> SceneRegistry::sceneFilesOf(
+    const std::string& id) const {
+  // Scene files are a few hundred bytes: anything large is not one, and a folder of thousands of
+  // JSON files is not worth reading on every listing.
+  constexpr std::uintmax_t kMaxBytes = 1 << 20;
+  constexpr std::size_t kMaxFiles = 256;
+  std::error_code ec;
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dataDir_, ec)) {
+    const fs::path p = e.path();
+    if (p.extension() != ".json" || !e.is_regular_file(ec) || !validId(p.filename().string()))
+      continue;
+    if (e.file_size(ec) > kMaxBytes || files.size() >= kMaxFiles) continue;
+    files.push_back(p);
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<std::pair<std::string, hlod::SceneFile>> out;
+  for (const fs::path& p : files) {
+    auto file = hlod::readSceneFile(p);
+    if (file && !file->store.empty() && storeIdOf(file->store) == id)
+      out.emplace_back(p.filename().string(), std::move(*file));
+  }
+  return out;
 }
 
 std::vector<std::shared_ptr<Scene>> SceneRegistry::all() const {

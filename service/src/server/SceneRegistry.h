@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 
 #include "hlod/Camera.h"
 #include "hlod/NodeStore.h"
+#include "hlod/SceneFile.h"
 #include "hlod/runtime/NodeCache.h"
 
 namespace service::server {
@@ -24,8 +26,10 @@ struct Scene {
   std::filesystem::path path;
   std::shared_ptr<const hlod::NodeStore> store;
   std::uint32_t cacheStore = 0;  // its number in the shared NodeCache's keys
-  // The store's up axis and framing (hlod::frameBounds), as `hlodr render MODEL` would show it.
-  hlod::Camera defaultCamera(double aspect) const;
+  // The store's up axis and framing (hlod::frameBounds), as `hlodr render MODEL` would show it,
+  // or a scene file's camera where it has one (its up defaults to the store's).
+  hlod::Camera defaultCamera(double aspect,
+                             const std::optional<hlod::SceneCamera>& sceneCamera = {}) const;
   nlohmann::json summary() const;  // for GET /api/scenes
   nlohmann::json detail() const;   // for GET /api/scenes/{id}
 
@@ -44,6 +48,13 @@ class SceneRegistry {
   // Opens the stores not opened yet; a broken one is skipped with a line to `log`.
   void scan(const std::function<void(const std::string&)>& log);
   std::shared_ptr<Scene> find(const std::string& id) const;
+  // The scene files (NAME.json, docs/scene.md) directly in the data folder whose store is `id`,
+  // read afresh, by name. Other JSON files (camera paths, broken scenes) are left out: a request
+  // that names one gets its parse error.
+  std::vector<std::pair<std::string, hlod::SceneFile>> sceneFilesOf(const std::string& id) const;
+  // The store id a scene file's "store" names: its folder name without ".hlod" ("city.hlod",
+  // "../out/city.hlod" and "city" are all "city").
+  static std::string storeIdOf(const std::string& storePath);
   std::vector<std::shared_ptr<Scene>> all() const;
   const std::shared_ptr<hlod::NodeCache>& cache() const { return cache_; }
   const std::filesystem::path& dataDir() const { return dataDir_; }

@@ -124,8 +124,9 @@ ApiResult<nlohmann::json> SessionManager::create(const std::shared_ptr<Scene>& s
                             auto s = openSession(*live->scene, live->settings, gl, scenes_.cache());
                             if (!s) return ApiError{500, "internal", s.message()};
                             live->session = std::move(*s);
-                            live->camera = live->scene->defaultCamera(double(live->settings.width) /
-                                                                      live->settings.height);
+                            live->camera = live->scene->defaultCamera(
+                                double(live->settings.width) / live->settings.height,
+                                live->settings.camera);
                             live->ready = true;
                             return true;
                           });
