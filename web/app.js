@@ -1,5 +1,6 @@
-// hlodr's page: wires the scene picker, the settings, the interactive view, the path runner, the
-// jobs list and the dashboard to each other. Each of those lives in its own module.
+// hlodr's page: wires the scene pickers (a store, and one of its scene files or the store's
+// defaults), the settings, the interactive view, the path runner, the jobs list and the dashboard
+// to each other. Each of those lives in its own module.
 
 import { api } from './api.js';
 import { Dashboard } from './charts.js';
@@ -22,7 +23,7 @@ window.addEventListener('unhandledrejection', (e) => errors.show(e.reason, 'page
 window.addEventListener('error', (e) => errors.show(e.error || e.message, 'page'));
 
 let scenes = [];
-let scene = null;
+let scene = null; // the picked store: an entry of GET /api/scenes
 
 const viewElement = $('#view');
 const viewer = new Viewer({ canvas: $('#frame'), overlay: $('#overlay'), onError, onRecovered });
@@ -91,9 +92,30 @@ function readSettings() {
   };
 }
 
+// The picked scene file's name, or null for the store's defaults.
+function sceneFile() {
+  return $('#look').value || null;
+}
+
+// What a session or a job gets as its `scene`: the scene file when one is picked (its effects
+// and camera), else the store id. Studies take a store id only, and keep sending scene.id.
+function sceneRef() {
+  return sceneFile() || scene.id;
+}
+
 function applySettings() {
   $('#sse-row').hidden = $('#selector').value !== 'sse';
-  if (scene) viewer.configure(scene, readSettings());
+  if (scene) viewer.configure(scene, sceneFile(), readSettings());
+}
+
+// The scene files of the picked store, after "store defaults", each with the effects it
+// declares (what it costs to draw); the pick goes back to the store's defaults.
+function offerSceneFiles(files) {
+  const picker = $('#look');
+  const label = (f) => `${f.name} · ${f.effects.length ? f.effects.join(', ') : 'no effects'}`;
+  picker.replaceChildren(new Option('store defaults', ''), ...files.map((f) => new Option(label(f), f.name)));
+  picker.value = '';
+  picker.disabled = files.length === 0;
 }
 
 // Walk-fly and drive follow a z-up street grid (the API refuses them elsewhere): other stores
@@ -109,6 +131,7 @@ function selectScene(id) {
   scene = scenes.find((s) => s.id === id) || null;
   if (!scene) return;
   offerPathKinds(!scene.up || scene.up[2] === 1);
+  offerSceneFiles(scene.sceneFiles || []);
   const t = scene.triangles || {};
   $('#scene-info').textContent =
     `${formatCount(scene.nodes)} nodes · ${scene.levels} levels · ` +
@@ -144,7 +167,7 @@ async function startJob(event) {
   button.disabled = true;
   try {
     const job = await api.createJob({
-      scene: scene.id,
+      scene: sceneRef(),
       path: { kind: $('#path-kind').value },
       fps: numberField('#fps'),
       frames: numberField('#frames'),
@@ -177,6 +200,7 @@ async function showHealth() {
 }
 
 $('#scene').addEventListener('change', (e) => selectScene(e.target.value));
+$('#look').addEventListener('change', applySettings); // a new session, from the file's camera
 $('#settings').addEventListener('change', applySettings);
 $('#settings').addEventListener('submit', (e) => {
   e.preventDefault(); // Enter in a field: the change event already applied it
@@ -202,6 +226,8 @@ window.hlodrDebug = Object.freeze({
     stillFramesShown: viewer.stillFramesShown,
     inFlight: viewer.inFlight,
     session: viewer.session && viewer.session.id,
+    sceneFile: viewer.sceneFile,
+    camera: viewer.camera && viewer.camera.toApi(),
     settings: viewer.settings && { ...viewer.settings },
     stats: viewer.last && viewer.last.stats,
   }),

@@ -14,8 +14,9 @@ const normalize = (a) => scale(a, 1 / (length(a) || 1));
 const MAX_PITCH = 1.55; // just short of straight down/up, where yaw would be undefined
 
 export class OrbitCamera {
-  // scene: an entry of GET /api/scenes (bounds, up, defaultCamera).
-  constructor(scene) {
+  // scene: an entry of GET /api/scenes (bounds, up, defaultCamera); defaultCamera: where R goes
+  // back to, when not the store's (a session's, which a scene file's camera sets).
+  constructor(scene, defaultCamera = scene.defaultCamera) {
     this.up = normalize(scene.up || [0, 0, 1]);
     // Two axes spanning the ground plane, for yaw.
     const ref = Math.abs(this.up[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0];
@@ -23,7 +24,7 @@ export class OrbitCamera {
     this.e1 = cross(this.e2, this.up);
     const b = scene.bounds || { min: [-1, -1, -1], max: [1, 1, 1] };
     this.sceneSize = length(sub(b.max, b.min)) || 1;
-    this.defaultCamera = scene.defaultCamera || {
+    this.defaultCamera = defaultCamera || {
       position: add(b.max, scale(sub(b.max, b.min), 0.5)),
       target: scale(add(b.min, b.max), 0.5),
     };

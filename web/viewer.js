@@ -1,5 +1,5 @@
-// The interactive frame view: one hlodr session per (scene, settings), frames drawn on a canvas,
-// and the overlay of the last frame's statistics.
+// The interactive frame view: one hlodr session per (scene, scene file, settings), frames drawn on
+// a canvas, and the overlay of the last frame's statistics.
 //
 // Frame requests follow what a remote viewer does: at most one request in flight, and when it
 // returns, the next one is for the camera as it is then (moves made meanwhile collapse into
@@ -25,8 +25,10 @@ export class Viewer {
     this.onError = onError;
     this.onRecovered = onRecovered;
     this.scene = null;
+    this.sceneFile = null; // the name of the scene file drawn, null for the store's defaults
     this.settings = null;
     this.camera = null;
+    this.cameraFromSession = false; // the next session's defaultCamera replaces the camera
     this.session = null;
     this.toClose = []; // sessions of older settings, closed when no request is in flight
     this.generation = 0; // bumped by configure(): answers of an older one are dropped
@@ -39,12 +41,19 @@ export class Viewer {
     this.last = null; // {stats, timing, roundTripMs, still}
   }
 
-  // Starts over with a scene and settings {width, height, budgetMs, selector, ssePx, memoryMb,
-  // mode}: the old session is closed and the next frame opens a new one. The camera is kept
-  // when only the settings change.
-  configure(scene, settings) {
-    if (!this.scene || this.scene.id !== scene.id) this.camera = new OrbitCamera(scene);
+  // Starts over with a scene (an entry of GET /api/scenes), one of its scene files (a name, or
+  // null for the store's defaults) and settings {width, height, budgetMs, selector, ssePx,
+  // memoryMb, mode}: the old session is closed and the next frame opens a new one. The camera is
+  // kept when only the settings change; a new scene or scene file starts from the new session's
+  // defaultCamera, which is the scene file's camera when it declares one.
+  configure(scene, sceneFile, settings) {
+    if (!this.scene || this.scene.id !== scene.id || this.sceneFile !== sceneFile) {
+      // The store's camera until the session answers: the controls need a camera meanwhile.
+      this.camera = new OrbitCamera(scene);
+      this.cameraFromSession = true;
+    }
     this.scene = scene;
+    this.sceneFile = sceneFile;
     this.settings = settings;
     this.generation++;
     this.closeSession();
@@ -109,7 +118,7 @@ export class Viewer {
   async openSession(generation) {
     const s = this.settings;
     const session = await api.createSession({
-      scene: this.scene.id,
+      scene: this.sceneFile || this.scene.id,
       width: s.width,
       height: s.height,
       budgetMs: s.budgetMs,
@@ -122,19 +131,26 @@ export class Viewer {
       return false;
     }
     this.session = session;
+    if (this.cameraFromSession) {
+      // Only the first session of a scene (file) moves the camera: a session reopened after it
+      // expired, or one for new settings, keeps the view where the user left it.
+      this.cameraFromSession = false;
+      this.camera = new OrbitCamera(this.scene, session.defaultCamera || this.scene.defaultCamera);
+    }
     return true;
   }
 
   async requestFrame(still) {
     const generation = this.generation;
-    const body = {
-      camera: this.camera.toApi(),
-      still,
-      format: 'jpeg',
-      quality: still ? JPEG_QUALITY.still : JPEG_QUALITY.moving,
-    };
     try {
       if (!this.session && !(await this.openSession(generation))) return;
+      // The camera is read once the session is open: a new one may have just set it.
+      const body = {
+        camera: this.camera.toApi(),
+        still,
+        format: 'jpeg',
+        quality: still ? JPEG_QUALITY.still : JPEG_QUALITY.moving,
+      };
       let frame;
       try {
         frame = await api.sessionFrame(this.session.id, body);

@@ -3,8 +3,9 @@
 // already running). It orbits, zooms and walks and checks that the frame changes, that frames
 // are asked one at a time (real-time while moving, one still frame at rest), shows an API error
 // to the user, runs a 30-frame path job, checks that every chart got every frame, downloads the
-// CSV, cancels a running job, and fails on any console error or page error. Screenshots go to
-// HLODR_WEB_SCREENSHOTS (default build/web-screenshots/).
+// CSV, cancels a running job, picks a scene file (its effects and camera) for the view and a job,
+// and fails on any console error or page error. Screenshots go to HLODR_WEB_SCREENSHOTS (default
+// build/web-screenshots/).
 //
 // Exit 77 (ctest's skip) with a message when Chromium, node_modules or hlodr's serve command is
 // missing.
@@ -51,6 +52,7 @@ if (!process.env.HLODR_WEB_URL) {
 const { chromium } = await import('playwright-core');
 
 let tmp;
+let dataDir; // the server's --data folder, when this test started the server
 let profile; // Chromium's fresh --user-data-dir
 let server;
 let serverLog = '';
@@ -60,6 +62,7 @@ let page;
 const problems = []; // console errors and page errors
 let allowedStatus = 0; // while set, "Failed to load resource ... status of N" is expected
 const frameRequests = []; // bodies of POST /api/sessions/{id}/frame
+const createRequests = { sessions: [], jobs: [] }; // bodies of POST /api/sessions, /api/jobs
 let framesInFlight = 0;
 let maxFramesInFlight = 0;
 const offOrigin = [];
@@ -99,6 +102,7 @@ async function startServer() {
   tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'hlodr-web-'));
   const data = path.join(tmp, 'data');
   fs.mkdirSync(data);
+  dataDir = data;
   run(HLODR, ['city', '--blocks', '4', '--texture', '128', '--quiet', '-o', path.join(tmp, 'city')]);
   run(HLODR, ['build', path.join(tmp, 'city'), '-o', path.join(data, 'city.hlod')]);
   // A y-up store (an OBJ box stands on y): the page offers it the orbit path only.
@@ -180,6 +184,8 @@ before(async () => {
   page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
   page.on('request', (r) => {
     if (!r.url().startsWith(baseUrl) && !r.url().startsWith('data:') && !r.url().startsWith('blob:')) offOrigin.push(r.url());
+    const create = r.method() === 'POST' && /\/api\/(sessions|jobs)$/.exec(new URL(r.url()).pathname);
+    if (create) createRequests[create[1]].push(JSON.parse(r.postData()));
     if (/\/api\/sessions\/[^/]+\/frame$/.test(r.url())) {
       frameRequests.push(JSON.parse(r.postData()));
       maxFramesInFlight = Math.max(maxFramesInFlight, ++framesInFlight);
@@ -395,6 +401,100 @@ test('a y-up store is offered the orbit path only, and the city all three kinds'
   await page.selectOption('#scene', 'city');
   await waitForRest(before, 'picking the city again');
   for (const k of await kinds()) assert.deepEqual(k.enabled, ['drive', 'orbit', 'walk-fly']);
+});
+
+// A scene file next to the stores: lambert, the sun and a sky, and a low camera at the city's
+// corner rather than the store's overview. The page offers it with its effects; picking it opens
+// a session on the file, which starts from the file's camera, and a job on it runs.
+test('a scene file is offered with its effects, and picking it draws it from its camera', {
+  skip: process.env.HLODR_WEB_URL ? 'writes into the data folder of a server this test starts' : false,
+}, async () => {
+  const city = (await (await fetch(`${baseUrl}/api/scenes`)).json()).scenes.find((s) => s.id === 'city');
+  const { min, max } = city.bounds;
+  const size = max.map((v, i) => v - min[i]);
+  const camera = {
+    position: [min[0] - 0.1 * size[0], min[1] - 0.1 * size[1], min[2] + 0.3 * size[2]],
+    target: [min[0] + 0.6 * size[0], min[1] + 0.6 * size[1], min[2] + 0.1 * size[2]],
+    up: [0, 0, 1],
+    fov: 65,
+  };
+  fs.writeFileSync(path.join(dataDir, 'corner.json'), JSON.stringify({
+    store: 'city.hlod',
+    camera,
+    background: { sky: {} },
+    effects: { shading: 'lambert', sun: true },
+  }, null, 2));
+
+  // The list of scene files comes with GET /api/scenes, which the page reads as it loads.
+  await page.reload();
+  await waitForRest({ stillFramesShown: 0 }, 'reloading the page');
+  const look = page.locator('#look');
+  const options = () => look.evaluate((s) => [...s.options].map((o) => ({ value: o.value, text: o.textContent })));
+  assert.equal(await page.locator('#scene').inputValue(), 'city');
+  assert.equal(await look.inputValue(), '', 'the store defaults first');
+  assert.equal(await look.isDisabled(), false);
+  assert.deepEqual(await options(), [
+    { value: '', text: 'store defaults' },
+    { value: 'corner.json', text: 'corner.json · lambert, sun, sky' },
+  ]);
+  assert.equal(createRequests.sessions.at(-1).scene, 'city', 'store defaults: the store id');
+
+  let before = await viewerState();
+  const storeFrame = await frameHash();
+  const requestsBefore = frameRequests.length;
+  await page.selectOption('#look', 'corner.json');
+  await waitForRest(before, 'picking the scene file');
+  const now = await viewerState();
+  assert.notEqual(now.session, before.session, 'a new session');
+  assert.equal(now.sceneFile, 'corner.json');
+  assert.equal(createRequests.sessions.at(-1).scene, 'corner.json', 'the session was opened on the file');
+  assert.notEqual(await frameHash(), storeFrame, 'the frame differs from the store-defaults frame');
+  // Every frame since the pick is from the file's camera (nothing moved it).
+  const sent = frameRequests.slice(requestsBefore);
+  assert.ok(sent.length >= 1);
+  for (const body of sent) {
+    assert.equal(body.camera.fov, camera.fov);
+    for (const key of ['position', 'target']) {
+      const off = Math.hypot(...body.camera[key].map((v, i) => v - camera[key][i]));
+      assert.ok(off < 1e-6 * Math.hypot(...size), `the frame's camera ${key} is the file's: ${body.camera[key]}`);
+    }
+  }
+  await shot('10-scene-file');
+
+  // A job on the picked file: sent as its name; the job object names the store, which the jobs
+  // list uses to size the dashboard's levels chart when the job is shown from the list.
+  await page.fill('#frames', '3');
+  await page.selectOption('#path-kind', 'orbit');
+  await page.uncheck('#video');
+  const previous = await page.evaluate(() => window.hlodrDebug.job().id);
+  await page.click('#start-job');
+  await waitOnPage((id) => {
+    const job = window.hlodrDebug.job();
+    return job.id !== id && ['done', 'failed', 'cancelled'].includes(job.state);
+  }, previous, 120000, 'the job on the scene file did not end');
+  assert.equal(createRequests.jobs.at(-1).scene, 'corner.json', 'the job was started on the file');
+  const job = await page.evaluate(() => window.hlodrDebug.job());
+  assert.equal(job.state, 'done');
+  const row = page.locator(`tr[data-job="${job.id}"][data-state="done"]`);
+  await row.waitFor({ timeout: 15000 });
+  assert.match(await row.locator('.sub').first().innerText(), /^city · orbit$/);
+  await row.locator('button.link').click();
+  await waitOnPage(() => Object.values(window.hlodrDebug.chartPoints()).every((n) => n === 3), null, 30000,
+    'the job shown from the list did not fill its charts');
+
+  // A store without scene files: only the store defaults, disabled; back on the city, the pick
+  // has gone back to its defaults.
+  before = await viewerState();
+  await page.selectOption('#scene', 'tall');
+  await waitForRest(before, 'picking the y-up scene');
+  assert.equal(await look.isDisabled(), true);
+  assert.deepEqual(await options(), [{ value: '', text: 'store defaults' }]);
+  assert.equal(createRequests.sessions.at(-1).scene, 'tall');
+  before = await viewerState();
+  await page.selectOption('#scene', 'city');
+  await waitForRest(before, 'picking the city again');
+  assert.equal(await look.inputValue(), '');
+  assert.equal(createRequests.sessions.at(-1).scene, 'city');
 });
 
 test('the page uses nothing but its own server, and the vendored uPlot is unchanged', () => {
