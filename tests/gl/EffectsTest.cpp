@@ -1,13 +1,17 @@
 // Effects only where the scene declares them: an undeclared effect creates no GL object and
-// runs no pass; each declared one changes the image as it should (image-property assertions on
-// small hand-built scenes: fog brightens far pixels towards the fog colour, a shadow darkens the
-// ground behind an occluder, SSAO darkens a crease, the outline darkens silhouettes).
+// runs no pass; each declared one changes the image as it should: golden images with a tolerance
+// (tests/data/golden/effects_*.png, rewritten with HLODR_UPDATE_GOLDEN=1), and image-property
+// assertions on small hand-built scenes that say why (fog brightens far pixels towards the fog
+// colour, a shadow darkens the ground behind an occluder, SSAO darkens a crease, the outline
+// darkens silhouettes).
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "GlTestScene.h"
+#include "hlod/Import.h"
 #include "renderer/FrameView.h"
 #include "renderer/GpuMesh.h"
 
@@ -178,6 +182,61 @@ TEST(Effects, EachUndeclaredEffectAddsNothingAndEachDeclaredOneOnlyItsOwn) {
   ASSERT_EQ(a.timing.passes.size(), a.passes.size());
   for (std::size_t i = 0; i < a.passes.size(); ++i)
     EXPECT_EQ(a.timing.passes[i].name, renderer::passName(a.passes[i]));
+}
+
+// Each effect added to the one before it, on a textured box on a ground: every frame is its
+// golden image within a tolerance, and differs from the frame before (the effect did something).
+TEST(Effects, EachEffectAddedInTurnDrawsItsGoldenImage) {
+  auto ctx = context();
+  if (!ctx) GTEST_SKIP() << "no GL context";
+  auto meshes = boxOnGround();
+  meshes[1].texture = checker();
+  meshes.push_back(box({4, 3, 1}, {1.5, 1, 1}, {0.3f, 0.5f, 0.8f, 1}));
+  struct Step {
+    const char* name;
+    void (*add)(hlod::SceneEffects&);
+  };
+  const Step steps[] = {
+      {"unlit", [](hlod::SceneEffects&) {}},
+      {"textures", [](hlod::SceneEffects& e) { e.textures = true; }},
+      {"lambert",
+       [](hlod::SceneEffects& e) {
+         // From behind and above the boxes: the ground in front of them catches the highlight
+         // and their shadows fall towards the camera.
+         e.shading = hlod::Shading::Lambert;
+         e.sun = hlod::SunLight{};
+         e.sun->direction = glm::normalize(glm::dvec3(0.3, 0.8, 0.5));
+       }},
+      {"blinn_phong", [](hlod::SceneEffects& e) { e.shading = hlod::Shading::BlinnPhong; }},
+      {"sky", [](hlod::SceneEffects& e) { e.background.sky = true; }},
+      {"fog", [](hlod::SceneEffects& e) { e.fog = hlod::FogEffect{0.03}; }},
+      {"shadows", [](hlod::SceneEffects& e) { e.shadows = hlod::ShadowEffect{1024}; }},
+      {"ssao", [](hlod::SceneEffects& e) { e.ssao = hlod::SsaoEffect{}; }},
+      {"outline", [](hlod::SceneEffects& e) { e.outline = hlod::OutlineEffect{}; }},
+  };
+  const bool update = std::getenv("HLODR_UPDATE_GOLDEN") != nullptr;
+  hlod::SceneEffects effects = bare();
+  hlod::Image previous;
+  for (const Step& step : steps) {
+    step.add(effects);
+    const Shot s = render(*ctx, effects, meshes);
+    const std::string golden =
+        std::string(HLODR_TEST_DATA) + "/golden/effects_" + step.name + ".png";
+    if (update) {
+      ASSERT_TRUE(renderer::writeImage(golden, s.image));
+    }
+    auto expected = hlod::loadImage(golden);
+    ASSERT_TRUE(expected) << step.name << ": " << expected.message();
+    const ImageDiff d = compare(s.image, *expected);
+    // Rasterisers may differ in the last bit of edge coverage, filtering and dithering.
+    EXPECT_LT(d.meanAbs, 1.0) << step.name;
+    EXPECT_LT(d.differingShare, 0.01) << step.name;
+    if (!previous.empty()) {
+      const ImageDiff changed = compare(s.image, previous);
+      EXPECT_GT(changed.differingShare, 0.01) << step.name << " changed too little";
+    }
+    previous = s.image;
+  }
 }
 
 TEST(Effects, EachVariantCompilesOnceHoweverManyFramesAndMeshes) {
