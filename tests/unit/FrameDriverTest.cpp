@@ -226,6 +226,41 @@ TEST(FrameDriver, APerPixelPassIsReservedFromTheBudgetAndLeftOutOfVTime) {
   EXPECT_NEAR(vSsao, vPlain, 0.15 * vPlain);
 }
 
+TEST(FrameDriver, AShadowPassCountsAsItsShareOfTheFrontAndLeavesVTimeAlone) {
+  // The shadow pass draws the front again at 0.8 of the geometry pass's time: the budget buys a
+  // front that fits both passes, and v_time stays the geometry pass's (without the share it
+  // would absorb the shadow pass, 1.8x, and mean something else with every scene).
+  auto settle = [](double share, double knownVTime, double& vTime, FrameRecord& first) {
+    Rig rig(heavyCity(), 33.0);
+    rig.renderer.shadowShare = share;
+    EXPECT_TRUE(rig.driver->start(knownVTime).ok());
+    rig.loadAll();
+    FrameRecord last;
+    for (int i = 0; i < 30; ++i) {
+      auto r = rig.driver->renderFrame(rig.street(), FrameMode::Settled);
+      EXPECT_TRUE(r.ok());
+      if (i == 0) first = *r;
+      last = *r;
+    }
+    vTime = rig.driver->selector().vTime();
+    return last;
+  };
+  double vPlain = 0.0, vShadow = 0.0, v = 0.0;
+  FrameRecord first;
+  const FrameRecord plain = settle(0.0, 0.0, vPlain, first);
+  const FrameRecord shadow = settle(0.8, 0.0, vShadow, first);
+  EXPECT_NEAR(plain.gpuMs, 33.0, 0.1 * 33.0);
+  EXPECT_NEAR(shadow.gpuMs, 33.0, 0.1 * 33.0);
+  EXPECT_GT(shadow.shadowMs, 0.5 * shadow.geometryMs);
+  EXPECT_LT(shadow.triangles, plain.triangles * 0.7);
+  EXPECT_NEAR(vShadow, vPlain, 0.1 * vPlain);
+  // A v_time learnt without shadows (a calibration, an earlier session) and a scene that casts
+  // them: the first frame counts the shadow pass before it has ever been timed (a share of 1).
+  settle(1.0, vPlain, v, first);
+  EXPECT_LE(first.gpuMs, 1.2 * 33.0);
+  EXPECT_GT(first.gpuMs, 0.6 * 33.0);
+}
+
 TEST(FrameDriver, AfterATenfoldSlowdownTheFramesAreBackOnBudgetWithinThreeFrames) {
   Rig rig(heavyCity(), 33.0);
   ASSERT_TRUE(rig.driver->start().ok());

@@ -21,6 +21,8 @@ class SimulatedRenderer final : public NodeRenderer {
   double msPerFrame = 0.5;      // clear, state changes: not proportional to the front
   double msPerUpload = 1.0;
   double msScreenPass = 0.0;  // a per-pixel pass (as SSAO): the same whatever the front
+  // A shadow pass that draws the front again at this share of the geometry pass's time (0: none).
+  double shadowShare = 0.0;
   // Triangles below hlod_0 cost this many times more (nearer, larger on screen): what a v_time
   // measured on hlod_0 alone does not see.
   double deeperTriangleFactor = 1.0;
@@ -55,8 +57,10 @@ class SimulatedRenderer final : public NodeRenderer {
           static_cast<double>(triangles_.at(n)) * (levels_.at(n) > 0 ? deeperTriangleFactor : 1.0);
     }
     const double geometry = msPerFrame + msPerTriangle * weighted;
-    d.ms = geometry + msScreenPass;
+    const double shadow = shadowShare * msPerTriangle * weighted;
+    d.ms = shadow + geometry + msScreenPass;
     d.gpuMs = d.ms;
+    if (shadowShare > 0.0) d.passes.push_back({"shadow", shadow});
     d.passes.push_back({"geometry", geometry});
     if (msScreenPass > 0.0) d.passes.push_back({"ssao", msScreenPass});
     d.drawCalls = front.size();
@@ -64,6 +68,7 @@ class SimulatedRenderer final : public NodeRenderer {
     return d;
   }
   Image readback() override { return Image{1, 1, {0, 0, 0, 255}}; }
+  bool drawsShadowPass() const override { return shadowShare > 0.0; }
 
   void setTriangles(const Skeleton& sk) {
     for (const NodeInfo& n : sk.nodes) {

@@ -67,6 +67,11 @@ struct View {
   // Distance fog: nodes wholly farther than this are fully fogged and culled (as Cesium culls
   // tiles whose fog factor reaches 1; hlod::fogCullDistance). Infinite: no fog culling.
   double fogCullDistance = std::numeric_limits<double>::infinity();
+  // How many times the front is drawn this frame, in units of the geometry pass: 1, or 1 plus the
+  // shadow pass's share when a shadow map is drawn from the sun (FrameDriver measures it). The
+  // geometry pass gets the draw budget divided by this, and v_time stays the geometry pass's ms
+  // per unit of cost whether or not a scene casts shadows.
+  double frontDraws = 1.0;
 };
 
 }  // namespace hlod

@@ -65,12 +65,14 @@ struct LoadRequest {
 
 struct Selection {
   std::vector<std::uint32_t> front;  // nodes to draw, each resident
-  double estimatedMs = 0.0;          // spentMs + sum of timeNeeded = v_time * cost of the front
-  double estimatedCost = 0.0;        // sum of cost (eq. 1) of the front
-  double targetMs = 0.0;             // the budget this frame was selected for
-  double spentMs = 0.0;              // of it, spent before drawing (View::spentMs)
-  double drawBudgetMs = 0.0;         // targetMs - spentMs, at least 0: for the drawing
-  double vTime = 0.0;                // v_time used (ms per unit of cost)
+  double estimatedMs =
+      0.0;  // spentMs + frontDraws * sum of timeNeeded (v_time * cost of the front)
+  double estimatedCost = 0.0;  // sum of cost (eq. 1) of the front
+  double targetMs = 0.0;       // the budget this frame was selected for
+  double spentMs = 0.0;        // of it, spent before drawing (View::spentMs)
+  double drawBudgetMs = 0.0;   // (targetMs - spentMs) / frontDraws, at least 0: the geometry pass's
+  double frontDraws = 1.0;  // View::frontDraws: the passes that draw the front, in geometry passes
+  double vTime = 0.0;       // v_time used (ms per unit of cost)
   std::vector<LoadRequest> loadPriorities;  // every visited node, resident or not
   std::uint32_t upToggles = 0;    // nodes drawn last frame, replaced by their children now
   std::uint32_t downToggles = 0;  // nodes whose children were drawn last frame, drawn now
@@ -203,8 +205,9 @@ class Selector {
   // Whether the front depends on the budget and v_time (not so for a fixed error or `full`).
   virtual bool budgeted() const { return false; }
 
-  // The measured drawing time of the frame drawn from the last selection (ms), without the
-  // View::spentMs it was selected with: v_time is the drawing's ms per unit of cost.
+  // The measured time of the geometry pass of the frame drawn from the last selection (ms):
+  // without the View::spentMs it was selected with and without the other passes that draw the
+  // front (View::frontDraws). v_time is the geometry pass's ms per unit of cost.
   void feedback(double measuredMs);
 
   double vTime() const { return feedback_.vTime(); }

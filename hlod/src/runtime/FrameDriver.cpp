@@ -64,11 +64,42 @@ void FrameDriver::drainLoader() {
   }
 }
 
-double screenPassMs(const DrawReport& report) {
-  double ms = 0.0;
-  for (const PassTime& p : report.passes)
-    if (isScreenPass(p.name)) ms += std::isfinite(p.gpuMs) ? std::max(0.0, p.gpuMs) : 0.0;
-  return ms;
+DrawSplit splitDraw(const DrawReport& report) {
+  DrawSplit s;
+  const double total = std::isfinite(report.ms) ? std::max(0.0, report.ms) : 0.0;
+  for (const PassTime& p : report.passes) {
+    const double ms = std::isfinite(p.gpuMs) ? std::max(0.0, p.gpuMs) : 0.0;
+    if (isScreenPass(p.name)) s.screenMs += ms;
+    if (p.name == "shadow") s.shadowMs += ms;
+  }
+  s.screenMs = std::min(s.screenMs, total);
+  s.shadowMs = std::min(s.shadowMs, total - s.screenMs);
+  s.geometryMs = total - s.screenMs - s.shadowMs;
+  return s;
+}
+
+Result<DrawSplit> FrameDriver::timeDraws(const Camera& camera,
+                                         std::span<const std::uint32_t> front) {
+  // The first draw pays the first-use costs; the median of the next three is this machine's
+  // speed (one timed draw on a shared machine was off by up to 1.7x in the first frame).
+  if (auto warm = renderer_.draw(camera, front); !warm) return warm.error();
+  std::array<DrawSplit, 3> timed;
+  for (DrawSplit& t : timed) {
+    auto drawn = renderer_.draw(camera, front);
+    if (!drawn) return drawn.error();
+    t = splitDraw(*drawn);
+  }
+  std::sort(timed.begin(), timed.end(),
+            [](const DrawSplit& a, const DrawSplit& b) { return a.geometryMs < b.geometryMs; });
+  const DrawSplit& median = timed[1];
+  screenPassMs_ = median.screenMs;
+  if (median.shadowMs > 0.0 && median.geometryMs > 0.0)
+    shadowShare_.set(median.shadowMs / median.geometryMs);
+  return median;
+}
+
+double FrameDriver::frontDraws() const {
+  return renderer_.drawsShadowPass() ? 1.0 + shadowShare_.vTime() : 1.0;
 }
 
 Status FrameDriver::start(double knownVTime) {
@@ -88,25 +119,14 @@ Status FrameDriver::start(double knownVTime) {
                       : frameBounds(bounds_, skel.up, defaultViewDirection(skel.up), 60.0, aspect);
   if (!bounds_.empty()) {
     const std::vector<std::uint32_t> front = nearToFar(skel, cam.position, skel.roots);
-    // The first draw pays the first-use costs; the median of the next three is this machine's
-    // speed (one timed draw on a shared machine was off by up to 1.7x in the first frame).
-    auto warm = renderer_.draw(cam, front);
-    if (!warm) return warm.error();
-    std::vector<std::pair<double, double>> timings;  // (geometry ms, per-pixel pass ms)
-    for (int k = 0; k < 3; ++k) {
-      auto timed = renderer_.draw(cam, front);
-      if (!timed) return timed.error();
-      const double screen = screenPassMs(*timed);
-      timings.emplace_back(timed->ms - screen, screen);
-    }
-    std::sort(timings.begin(), timings.end());
+    auto timed = timeDraws(cam, front);
+    if (!timed) return timed.error();
     double cost = 0.0;
     for (std::uint32_t r : skel.roots)
       cost += std::max(skel.nodes[r].cost, selector_->params().lakhia.c_minCost);
-    // Per-pixel passes do not scale with the front: v_time is the rest, per unit of cost.
-    screenPassMs_ = timings[1].second;
-    const double perCost = timings[1].first;
-    if (perCost > 0.0 && cost > 0.0) measuredVTime_ = perCost / cost;
+    // Per-pixel passes do not scale with the front, and the shadow pass has its share: v_time is
+    // the geometry pass per unit of cost.
+    if (timed->geometryMs > 0.0 && cost > 0.0) measuredVTime_ = timed->geometryMs / cost;
   }
   const double v = known ? knownVTime : measuredVTime_;
   if (v > 0.0 && std::isfinite(v)) {
@@ -140,15 +160,11 @@ Status FrameDriver::probeVTime(const Camera& camera) {
   std::swap(selector_, *probe);
   if (!first) return first.error();
   const double cost = (*probe)->lastEstimatedCost();
-  std::array<double, 3> ms{};
-  for (double& t : ms) {
-    auto timed = renderer_.draw(camera, lastFront_);
-    if (!timed) return timed.error();
-    t = timed->ms - std::min(screenPassMs(*timed), timed->ms);
-  }
-  std::sort(ms.begin(), ms.end());
-  if (ms[1] > 0.0 && cost > 0.0) {
-    measuredVTime_ = ms[1] / cost;
+  // renderFrame drew the front once: its first use is paid, timeDraws pays it again (cheap).
+  auto timed = timeDraws(camera, lastFront_);
+  if (!timed) return timed.error();
+  if (timed->geometryMs > 0.0 && cost > 0.0) {
+    measuredVTime_ = timed->geometryMs / cost;
     selector_->setVTime(measuredVTime_);
     if (prefetchSelector_) prefetchSelector_->setVTime(measuredVTime_);
   }
@@ -181,6 +197,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   // This frame's uploads are done, and the per-pixel passes (sky, SSAO, outline) will cost what
   // they cost last frame whatever the front: the geometry gets the rest of the budget.
   view.spentMs = rec.uploadMs + screenPassMs_;
+  view.frontDraws = frontDraws();
   const auto selectStart = Clock::now();
   // Settled: select as if everything were resident; that front is then loaded before drawing.
   const AllResident allResident;
@@ -239,10 +256,13 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   // Frame time: this frame's uploads plus the GL work through glFinish (settled-mode uploads
   // belong to the stall, not to the frame). v_time learns from the drawing alone.
   // The per-pixel passes' measured time leaves the feedback (and is spent next frame, above); the
-  // shadow pass draws the front again and stays in it: v_time is per unit of cost of all passes
-  // that draw the front.
-  screenPassMs_ = std::min(screenPassMs(*drawn), drawn->ms);
-  selector_->feedback(drawn->ms - screenPassMs_);
+  // shadow pass's share of the geometry pass is learnt on its own (View::frontDraws), so v_time
+  // is the geometry pass's alone and carries over between scenes with and without shadows.
+  const DrawSplit split = splitDraw(*drawn);
+  screenPassMs_ = split.screenMs;
+  selector_->feedback(split.geometryMs);
+  if (split.shadowMs > 0.0 && split.geometryMs > 0.0)
+    shadowShare_.update(split.shadowMs, split.geometryMs);
   rec.index = frames_++;
   rec.time = sample.time;
   fillFromSelection(rec, sel);

@@ -80,7 +80,11 @@ Selection Selector::beginFrame(const View& view) {
   Selection s;
   s.targetMs = params_.lakhia.c_targetTime;
   s.spentMs = std::isfinite(view.spentMs) ? std::max(0.0, view.spentMs) : 0.0;
-  s.drawBudgetMs = std::isfinite(s.targetMs) ? std::max(0.0, s.targetMs - s.spentMs) : 0.0;
+  // FrameDriver gives a finite share; anything else would stall or explode every estimate.
+  assert(std::isfinite(view.frontDraws) && view.frontDraws >= 1.0);
+  s.frontDraws = view.frontDraws;
+  s.drawBudgetMs =
+      std::isfinite(s.targetMs) ? std::max(0.0, s.targetMs - s.spentMs) / s.frontDraws : 0.0;
   s.vTime = feedback_.vTime();
   fogEye_ = view.camera.position;
   fogCullDistance_ = view.fogCullDistance > 0.0 ? view.fogCullDistance : 0.0;
@@ -148,7 +152,7 @@ void Selector::replaceByParent(std::uint32_t node, Selection& s) {
 }
 
 void Selector::finishFrame(Selection& s) {
-  s.estimatedMs = s.spentMs + s.vTime * s.estimatedCost;
+  s.estimatedMs = s.spentMs + s.frontDraws * s.vTime * s.estimatedCost;
   lastEstimatedCost_ = s.estimatedCost;
 }
 

@@ -2,6 +2,7 @@
 // hlod::NodeRenderer on a GL context: a session's GpuResidency and its Renderer (framebuffer of
 // the session's size, shader variants of its effects). Draws camera-relative with near and far
 // planes fitted to the model's bounds. Every call needs the context current on this thread.
+#include <algorithm>
 #include <memory>
 
 #include "hlod/runtime/FrameDriver.h"
@@ -25,6 +26,10 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
   hlod::Result<hlod::DrawReport> draw(const hlod::Camera& camera,
                                       std::span<const std::uint32_t> front) override;
   hlod::Image readback() override { return renderer_->readback(); }
+  bool drawsShadowPass() const override {
+    const auto& p = renderer_->passes();
+    return std::find(p.begin(), p.end(), Pass::Shadow) != p.end();
+  }
   hlod::metrics::Mask coverage() { return renderer_->coverage(); }
 
   Renderer& renderer() { return *renderer_; }

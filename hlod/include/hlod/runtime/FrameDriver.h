@@ -72,7 +72,21 @@ class NodeRenderer {
   virtual Result<DrawReport> draw(const Camera& camera, std::span<const std::uint32_t> front) = 0;
   // The last frame's pixels, RGBA8, row 0 at the top.
   virtual Image readback() = 0;
+  // Whether draw() runs a "shadow" pass: the front drawn again, depth only, from the sun.
+  virtual bool drawsShadowPass() const { return false; }
 };
+
+// A drawn frame's time by what it scales with. screenMs: the per-pixel passes (isScreenPass), a
+// cost of the frame size, not of the front, which the budget reserves and the v_time feedback
+// leaves out. shadowMs: the shadow pass, which draws the front again (View::frontDraws).
+// geometryMs: the rest of the frame's time through glFinish, which v_time learns from. Each at
+// least 0; a pass timer that reads more than the frame is cut to it.
+struct DrawSplit {
+  double geometryMs = 0.0;
+  double shadowMs = 0.0;
+  double screenMs = 0.0;
+};
+DrawSplit splitDraw(const DrawReport& report);
 
 struct FrameDriverOptions {
   double uploadBudgetMs = 2.0;                     // realtime: per-frame upload time
@@ -126,6 +140,10 @@ class FrameDriver {
  private:
   void drainLoader();
   Status probeVTime(const Camera& camera);
+  // Draws `front` once to pay its first use, then three times: the draw of median geometry time.
+  Result<DrawSplit> timeDraws(const Camera& camera, std::span<const std::uint32_t> front);
+  // View::frontDraws of the next frame: 1, plus the shadow pass's share where there is one.
+  double frontDraws() const;
 
   std::unique_ptr<Selector> selector_;
   std::unique_ptr<Selector> prefetchSelector_;
@@ -135,14 +153,13 @@ class FrameDriver {
   Aabb bounds_;
   std::uint64_t frames_ = 0;
   double measuredVTime_ = 0.0;
-  double screenPassMs_ = 0.0;  // the last frame's per-pixel passes (screenPassMs)
+  double screenPassMs_ = 0.0;  // the last frame's per-pixel passes (DrawSplit::screenMs)
+  // The shadow pass's ms per geometry-pass ms (median of three, low-passed as v_time is). Before
+  // its first measurement the shadow pass counts as drawing the front again: a share of 1.
+  VTimeFeedback shadowShare_{1.0, 0.3, 4.0, 2.0};
   std::deque<FrameRecord> recent_;
   std::vector<std::uint32_t> lastFront_;
 };
-
-// The time of a frame's per-pixel passes (isScreenPass): a cost of the frame size, not of the
-// front, which the budget reserves and the v_time feedback leaves out.
-double screenPassMs(const DrawReport& report);
 
 // The front of a selection ordered near to far from the camera (by distance to each node's box):
 // the depth test then rejects hidden fragments before they are shaded, which on a software
