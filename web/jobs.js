@@ -8,6 +8,12 @@ const ACTIVE = new Set(['queued', 'running']);
 const REFRESH_ACTIVE_MS = 1000;
 const REFRESH_IDLE_MS = 5000;
 
+// The store a job ran on, and the scene file when it ran with one.
+function sceneLabel(job) {
+  const file = job.settings && job.settings.sceneFile;
+  return file ? `${job.scene} (${file})` : job.scene;
+}
+
 export class JobsList {
   // body: the table's <tbody>; onShow(job): follow a job in the dashboard; onError(error, key).
   constructor(body, { onShow, onError, onRecovered }) {
@@ -72,7 +78,7 @@ export class JobsList {
     return el('tr', { 'data-job': job.id, 'data-state': job.state },
       el('td', {},
         el('button', { class: 'link', title: 'show in the dashboard', onclick: () => this.onShow(job) }, job.id),
-        el('div', { class: 'sub' }, `${job.scene} · ${path.kind || 'keyframes'}`)),
+        el('div', { class: 'sub' }, `${sceneLabel(job)} · ${path.kind || 'keyframes'}`)),
       el('td', {},
         el('span', { class: `state ${job.state}` }, job.state),
         el('div', { class: 'progress' }, el('i', { style: `width: ${progress}%` })),

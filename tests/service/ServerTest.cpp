@@ -293,7 +293,10 @@ TEST_F(ServerTest, ASceneFilesCameraStartsItsSessionsAndItsOrbitJobs) {
                                  {"selector", "full"},
                                  {"width", 96},
                                  {"height", 64}});
-  ASSERT_EQ(waitForJob(id)["state"], "done");
+  const json done = waitForJob(id);
+  ASSERT_EQ(done["state"], "done");
+  EXPECT_EQ(done["settings"]["sceneFile"], "corner.json");  // which file the job ran
+  EXPECT_EQ(done["settings"]["effects"], json({"lambert", "sun"}));
   auto frame = client().Get(("/api/jobs/" + id + "/frames/0").c_str());
   ASSERT_TRUE(frame);
   ASSERT_EQ(frame->status, 200);

@@ -477,7 +477,7 @@ test('a scene file is offered with its effects, and picking it draws it from its
   assert.equal(job.state, 'done');
   const row = page.locator(`tr[data-job="${job.id}"][data-state="done"]`);
   await row.waitFor({ timeout: 15000 });
-  assert.match(await row.locator('.sub').first().innerText(), /^city · orbit$/);
+  assert.match(await row.locator('.sub').first().innerText(), /^city \(corner\.json\) · orbit$/);
   await row.locator('button.link').click();
   await waitOnPage(() => Object.values(window.hlodrDebug.chartPoints()).every((n) => n === 3), null, 30000,
     'the job shown from the list did not fill its charts');

@@ -12,9 +12,15 @@ std::string RenderSettings::key() const {
 }
 
 nlohmann::json RenderSettings::json() const {
-  return {{"width", width},       {"height", height},
-          {"budgetMs", budgetMs}, {"selector", selector},
-          {"ssePx", ssePx},       {"memoryMb", double(memoryCapBytes) / (1024.0 * 1024.0)}};
+  nlohmann::json j = {{"width", width},
+                      {"height", height},
+                      {"budgetMs", budgetMs},
+                      {"selector", selector},
+                      {"ssePx", ssePx},
+                      {"memoryMb", double(memoryCapBytes) / (1024.0 * 1024.0)},
+                      {"effects", hlod::declaredEffects(effects)}};
+  if (!sceneFile.empty()) j["sceneFile"] = sceneFile;
+  return j;
 }
 
 const std::set<std::string>& renderSettingFields() {

@@ -55,7 +55,8 @@ struct RenderSettings {
   hlod::SceneEffects effects = hlod::defaultEffects();  // from the request's `scene`
   std::string effectsKey;                   // SceneChoice::key: equal effects, equal key
   std::optional<hlod::SceneCamera> camera;  // the scene file's: where sessions and orbits start
-  std::string key() const;                  // equal for settings that can share a warm session
+  std::string sceneFile;    // the scene file's name ("" for a store id or a scene inline)
+  std::string key() const;  // equal for settings that can share a warm session
   nlohmann::json json() const;
 };
 

@@ -9,7 +9,6 @@ namespace service::server {
 ApiResult<SceneChoice> readSceneChoice(const nlohmann::json& value, const SceneRegistry& scenes) {
   SceneChoice choice;
   hlod::SceneFile file;
-  std::string where = "scene";
   if (value.is_string() && value.get<std::string>().ends_with(".json")) {
     const std::string name = value.get<std::string>();
     // A name in the data folder, checked as store ids are: no path reaches outside it.
@@ -24,7 +23,7 @@ ApiResult<SceneChoice> readSceneChoice(const nlohmann::json& value, const SceneR
     file = std::move(*parsed);
     if (file.store.empty()) return badRequest(name + ": store: is required");
     choice.key = "file:" + name + ":" + std::to_string(std::hash<std::string>{}(text.str()));
-    where = name;
+    choice.file = name;
   } else if (value.is_object()) {
     auto parsed = hlod::parseScene(value.dump());
     if (!parsed) return badRequest("scene." + parsed.message());

@@ -18,12 +18,14 @@ struct SceneChoice {
   std::shared_ptr<Scene> store;
   hlod::SceneEffects effects = hlod::defaultEffects();
   std::optional<hlod::SceneCamera> camera;  // the scene file's default camera
-  std::string key;  // equal for equal effects: part of a warm session's key ("" for defaults)
+  std::string key;   // equal for equal effects: part of a warm session's key ("" for defaults)
+  std::string file;  // the scene file's name, when the scene is one
   // Its effects, key and camera into the settings of a render, session or job.
   void applyTo(RenderSettings& settings) const {
     settings.effects = effects;
     settings.effectsKey = key;
     settings.camera = camera;
+    settings.sceneFile = file;
   }
 };
 
