@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "hlod/Camera.h"
+#include "hlod/runtime/Camera.h"
 
 namespace renderer {
 

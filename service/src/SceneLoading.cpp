@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "hlod/City.h"
-#include "hlod/Framing.h"
-#include "hlod/Import.h"
+#include "hlod/city/City.h"
+#include "hlod/import/Import.h"
+#include "hlod/runtime/Framing.h"
 #include "renderer/GpuNodeRenderer.h"
 
 namespace service {

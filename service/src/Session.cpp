@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hlod/NodeStore.h"
-#include "hlod/SceneFile.h"
+#include "hlod/scene/SceneFile.h"
+#include "hlod/store/NodeStore.h"
 #include "renderer/VideoWriter.h"
 
 namespace service {

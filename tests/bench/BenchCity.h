@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "hlod/City.h"
-#include "hlod/HlodBuilder.h"
 #include "hlod/Result.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/city/City.h"
 
 namespace bench {
 

@@ -18,8 +18,8 @@
 #include <filesystem>
 #include <string>
 
-#include "hlod/City.h"
-#include "hlod/HlodBuilder.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/city/City.h"
 
 namespace {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "BenchCity.h"
-#include "hlod/CameraPath.h"
-#include "hlod/NodeStore.h"
+#include "hlod/runtime/CameraPath.h"
+#include "hlod/store/NodeStore.h"
 #include "service/SceneLoading.h"
 #include "service/Session.h"
 

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "BenchCity.h"
-#include "hlod/SceneFile.h"
+#include "hlod/scene/SceneFile.h"
 #include "service/Session.h"
 
 namespace {

@@ -10,7 +10,7 @@
 #include <memory>
 #include <vector>
 
-#include "hlod/City.h"
+#include "hlod/city/City.h"
 #include "renderer/GlContext.h"
 #include "renderer/Renderer.h"
 #include "service/SceneLoading.h"

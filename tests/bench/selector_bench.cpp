@@ -4,7 +4,7 @@
 #include <benchmark/benchmark.h>
 
 #include "../unit/RuntimeTestScene.h"
-#include "hlod/Selector.h"
+#include "hlod/runtime/Selector.h"
 
 namespace {
 

@@ -22,9 +22,9 @@
 #include <string>
 
 #include "BenchCity.h"
-#include "hlod/City.h"
-#include "hlod/HlodBuilder.h"
-#include "hlod/NodeStore.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/city/City.h"
+#include "hlod/store/NodeStore.h"
 #include "service/Session.h"
 
 namespace {

@@ -5,7 +5,7 @@
 #include <cstdlib>
 
 #include "FuzzSupport.h"
-#include "hlod/CameraPath.h"
+#include "hlod/runtime/CameraPath.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "FuzzSupport.h"
-#include "hlod/City.h"
+#include "hlod/city/City.h"
 
 namespace {
 

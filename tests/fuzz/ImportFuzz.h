@@ -8,7 +8,7 @@
 #include <string>
 
 #include "FuzzSupport.h"
-#include "hlod/Import.h"
+#include "hlod/import/Import.h"
 
 namespace fuzz {
 

@@ -7,7 +7,7 @@
 #include <cstdlib>
 
 #include "FuzzSupport.h"
-#include "hlod/CameraPath.h"
+#include "hlod/runtime/CameraPath.h"
 #include "server/ApiTypes.h"
 #include "server/JsonInput.h"
 #include "server/SceneChoice.h"

@@ -7,8 +7,8 @@
 #include <cstdlib>
 
 #include "FuzzSupport.h"
-#include "hlod/Camera.h"
-#include "hlod/SceneFile.h"
+#include "hlod/runtime/Camera.h"
+#include "hlod/scene/SceneFile.h"
 
 namespace {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "FuzzSupport.h"
-#include "hlod/NodeStore.h"
+#include "hlod/store/NodeStore.h"
 #include "store/ByteIO.h"
 
 namespace {

@@ -9,7 +9,7 @@
 
 #include "GlTestScene.h"
 #include "RunHlodr.h"
-#include "hlod/Import.h"
+#include "hlod/import/Import.h"
 
 namespace fs = std::filesystem;
 

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "GlTestScene.h"
-#include "hlod/Import.h"
+#include "hlod/import/Import.h"
 #include "renderer/FrameView.h"
 #include "renderer/GpuMesh.h"
 

@@ -16,9 +16,9 @@
 #include <nlohmann/json.hpp>
 
 #include "CachedStore.h"
-#include "hlod/City.h"
-#include "hlod/HlodBuilder.h"
-#include "hlod/NodeStore.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/city/City.h"
+#include "hlod/store/NodeStore.h"
 
 namespace fs = std::filesystem;
 

@@ -12,8 +12,8 @@
 
 #include "GlTestScene.h"
 #include "RunHlodr.h"
-#include "hlod/CameraPath.h"
-#include "hlod/Import.h"
+#include "hlod/import/Import.h"
+#include "hlod/runtime/CameraPath.h"
 
 namespace fs = std::filesystem;
 

@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "hlod/CameraPath.h"
-#include "hlod/City.h"
+#include "hlod/city/City.h"
+#include "hlod/runtime/CameraPath.h"
 
 namespace hlod {
 namespace {

@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 
 #include "../unit/RuntimeTestScene.h"
-#include "hlod/LakhiaSelector.h"
-#include "hlod/Selector.h"
+#include "hlod/runtime/LakhiaSelector.h"
+#include "hlod/runtime/Selector.h"
 #include "renderer/FrameView.h"
 
 namespace {

@@ -12,11 +12,11 @@
 
 #include "../unit/RuntimeTestScene.h"
 #include "HardcaseFolder.h"
-#include "hlod/HlodBuilder.h"
-#include "hlod/LakhiaSelector.h"
-#include "hlod/Loader.h"
-#include "hlod/NodeStore.h"
-#include "hlod/Selector.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/runtime/LakhiaSelector.h"
+#include "hlod/runtime/Loader.h"
+#include "hlod/runtime/Selector.h"
+#include "hlod/store/NodeStore.h"
 #include "service/Session.h"
 
 namespace {

@@ -12,7 +12,7 @@
 
 #include "HardcaseFolder.h"
 #include "Places.h"
-#include "hlod/HlodBuilder.h"
+#include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/Geodesy.h"
 #include "renderer/FrameView.h"
 #include "renderer/GpuMesh.h"

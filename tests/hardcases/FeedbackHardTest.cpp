@@ -14,10 +14,10 @@
 
 #include "../unit/RuntimeTestScene.h"
 #include "../unit/SimulatedRenderer.h"
-#include "hlod/LakhiaSelector.h"
-#include "hlod/Loader.h"
-#include "hlod/Selector.h"
 #include "hlod/runtime/FrameDriver.h"
+#include "hlod/runtime/LakhiaSelector.h"
+#include "hlod/runtime/Loader.h"
+#include "hlod/runtime/Selector.h"
 
 namespace {
 

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "HardcaseFolder.h"
-#include "hlod/City.h"
-#include "hlod/HlodBuilder.h"
-#include "hlod/PlyWriter.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/city/City.h"
+#include "hlod/import/PlyWriter.h"
 
 namespace {
 

@@ -16,9 +16,9 @@
 
 #include "../unit/RuntimeTestScene.h"
 #include "../unit/SimulatedRenderer.h"
-#include "hlod/Loader.h"
-#include "hlod/Selector.h"
 #include "hlod/runtime/FrameDriver.h"
+#include "hlod/runtime/Loader.h"
+#include "hlod/runtime/Selector.h"
 
 namespace {
 

@@ -14,8 +14,8 @@
 
 #include "../gl/RunHlodr.h"
 #include "../unit/RuntimeTestScene.h"
-#include "hlod/Loader.h"
-#include "hlod/NodeStore.h"
+#include "hlod/runtime/Loader.h"
+#include "hlod/store/NodeStore.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;

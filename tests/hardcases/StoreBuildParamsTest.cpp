@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "HardcaseFolder.h"
-#include "hlod/NodeStore.h"
+#include "hlod/store/NodeStore.h"
 
 namespace {
 

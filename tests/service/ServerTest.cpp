@@ -18,9 +18,9 @@
 #include <nlohmann/json.hpp>
 
 #include "../gl/CachedStore.h"
-#include "hlod/City.h"
-#include "hlod/HlodBuilder.h"
-#include "hlod/Import.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/city/City.h"
+#include "hlod/import/Import.h"
 #include "service/Server.h"
 
 namespace fs = std::filesystem;

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "hlod/Calibration.h"
+#include "hlod/builder/Calibration.h"
 
 namespace fs = std::filesystem;
 

@@ -9,11 +9,11 @@
 #include <set>
 
 #include "BuildTestMeshes.h"
-#include "hlod/HlodBuilder.h"
-#include "hlod/PlaneSplit.h"
-#include "hlod/Preprocess.h"
-#include "hlod/SeamVertices.h"
-#include "hlod/Simplifier.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/builder/PlaneSplit.h"
+#include "hlod/builder/Preprocess.h"
+#include "hlod/builder/SeamVertices.h"
+#include "hlod/builder/Simplifier.h"
 
 using namespace hlod;
 

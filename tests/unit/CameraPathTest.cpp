@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "RuntimeTestScene.h"
-#include "hlod/CameraPath.h"
+#include "hlod/runtime/CameraPath.h"
 
 namespace hlod {
 namespace {

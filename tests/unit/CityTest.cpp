@@ -1,5 +1,6 @@
-// The procedural city (hlod/City.h): determinism, size, layout, attributes, and the city folder.
-#include "hlod/City.h"
+// The procedural city (hlod/city/City.h): determinism, size, layout, attributes, and the city
+// folder.
+#include "hlod/city/City.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -9,9 +9,9 @@
 
 #include "RuntimeTestScene.h"
 #include "SimulatedRenderer.h"
-#include "hlod/CameraPath.h"
-#include "hlod/Loader.h"
+#include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/FrameDriver.h"
+#include "hlod/runtime/Loader.h"
 #include "hlod/runtime/PathRun.h"
 
 using namespace hlod;

@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "RuntimeTestScene.h"
-#include "hlod/CameraPath.h"
-#include "hlod/Framing.h"
+#include "hlod/runtime/CameraPath.h"
+#include "hlod/runtime/Framing.h"
 
 using namespace hlod;
 

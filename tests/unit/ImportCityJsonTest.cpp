@@ -14,10 +14,10 @@
 
 #include "ImportTestUtil.h"
 #include "SharedData.h"
-#include "hlod/Import.h"
 #include "hlod/city/Geodesy.h"
 #include "hlod/import/CityJsonPalette.h"
 #include "hlod/import/Epsg.h"
+#include "hlod/import/Import.h"
 
 namespace hlod {
 namespace {

@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "SharedData.h"
-#include "hlod/Import.h"
+#include "hlod/import/Import.h"
 
 namespace hlod {
 namespace {

@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "RuntimeTestScene.h"
-#include "hlod/LakhiaSelector.h"
-#include "hlod/Loader.h"
+#include "hlod/runtime/LakhiaSelector.h"
+#include "hlod/runtime/Loader.h"
 
 namespace hlod {
 namespace {

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "RuntimeTestScene.h"
-#include "hlod/Loader.h"
+#include "hlod/runtime/Loader.h"
 #include "hlod/runtime/NodeCache.h"
 
 using namespace hlod;

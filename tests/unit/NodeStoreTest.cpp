@@ -9,9 +9,9 @@
 #include <thread>
 
 #include "BuildTestMeshes.h"
-#include "hlod/HlodBuilder.h"
-#include "hlod/Loader.h"
-#include "hlod/NodeStore.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/runtime/Loader.h"
+#include "hlod/store/NodeStore.h"
 
 using namespace hlod;
 namespace fs = std::filesystem;

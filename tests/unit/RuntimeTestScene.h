@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "hlod/NodeSource.h"
-#include "hlod/Skeleton.h"
+#include "hlod/store/NodeSource.h"
+#include "hlod/store/Skeleton.h"
 
 namespace hlod::test {
 

@@ -7,9 +7,9 @@
 #include <gtest/gtest.h>
 
 #include "RuntimeTestScene.h"
-#include "hlod/FullSelector.h"
-#include "hlod/LakhiaSelector.h"
-#include "hlod/SceneFile.h"
+#include "hlod/runtime/FullSelector.h"
+#include "hlod/runtime/LakhiaSelector.h"
+#include "hlod/scene/SceneFile.h"
 
 namespace hlod {
 namespace {

@@ -5,10 +5,10 @@
 #include <gtest/gtest.h>
 
 #include "RuntimeTestScene.h"
-#include "hlod/FsSelector.h"
-#include "hlod/FullSelector.h"
-#include "hlod/LakhiaSelector.h"
-#include "hlod/SseSelector.h"
+#include "hlod/runtime/FsSelector.h"
+#include "hlod/runtime/FullSelector.h"
+#include "hlod/runtime/LakhiaSelector.h"
+#include "hlod/runtime/SseSelector.h"
 
 namespace hlod {
 namespace {

@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "SimplifierShapeTestMeshes.h"
-#include "hlod/Simplifier.h"
-#include "hlod/VertexClustering.h"
+#include "hlod/builder/Simplifier.h"
+#include "hlod/builder/VertexClustering.h"
 #include "hlod/metrics/SimplifiedFacing.h"
 #include "hlod/metrics/SurfaceDistance.h"
 

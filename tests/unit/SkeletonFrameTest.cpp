@@ -8,8 +8,8 @@
 #include <filesystem>
 
 #include "BuildTestMeshes.h"
-#include "hlod/HlodBuilder.h"
-#include "hlod/NodeStore.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/store/NodeStore.h"
 
 using namespace hlod;
 namespace fs = std::filesystem;

@@ -8,11 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include "RuntimeTestScene.h"
-#include "hlod/CameraPath.h"
-#include "hlod/FrameStats.h"
-#include "hlod/LakhiaSelector.h"
-#include "hlod/Loader.h"
-#include "hlod/Plots.h"
+#include "hlod/runtime/CameraPath.h"
+#include "hlod/runtime/FrameStats.h"
+#include "hlod/runtime/LakhiaSelector.h"
+#include "hlod/runtime/Loader.h"
+#include "hlod/runtime/Plots.h"
 
 namespace hlod {
 namespace {

@@ -1,5 +1,5 @@
 // Procedural city: block generation and the streaming writer of a city folder (see City.h).
-#include "hlod/City.h"
+#include "hlod/city/City.h"
 
 #include <algorithm>
 #include <atomic>
@@ -17,8 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "city/CityPlan.h"
-#include "hlod/PlyWriter.h"
 #include "hlod/import/ImageWriter.h"
+#include "hlod/import/PlyWriter.h"
 
 namespace hlod {
 

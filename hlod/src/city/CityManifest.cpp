@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hlod/City.h"
-#include "hlod/Import.h"
+#include "hlod/city/City.h"
+#include "hlod/import/Import.h"
 #include "hlod/import/InsideFolder.h"
 
 namespace hlod {

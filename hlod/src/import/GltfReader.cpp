@@ -22,8 +22,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "hlod/Import.h"
 #include "hlod/JsonDepth.h"
+#include "hlod/import/Import.h"
 #include "hlod/import/InsideFolder.h"
 #include "import/ImportUtil.h"
 

@@ -1,7 +1,7 @@
 // loadImage: any format OpenImageIO reads, converted to RGBA8 with row 0 at the top.
 #include <OpenImageIO/imageio.h>
 
-#include "hlod/Import.h"
+#include "hlod/import/Import.h"
 #include "import/ImportUtil.h"
 
 namespace hlod {

@@ -1,6 +1,6 @@
 // importModel: picks the reader by extension, then validates what every reader produced, so the
 // rest of hlodr can rely on finite coordinates, in-range indices and at least one triangle.
-#include "hlod/Import.h"
+#include "hlod/import/Import.h"
 
 #include <algorithm>
 #include <cmath>

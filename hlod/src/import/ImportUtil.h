@@ -15,9 +15,9 @@
 #include <utility>
 #include <vector>
 
-#include "hlod/Import.h"
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
+#include "hlod/import/Import.h"
 
 namespace hlod::import {
 

@@ -1,6 +1,6 @@
 // writePly: binary little-endian PLY with double positions, the exchange format between the city
 // generator and the importer.
-#include "hlod/PlyWriter.h"
+#include "hlod/import/PlyWriter.h"
 
 #include <bit>
 #include <cstdio>

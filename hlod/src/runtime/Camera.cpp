@@ -1,4 +1,4 @@
-#include "hlod/Camera.h"
+#include "hlod/runtime/Camera.h"
 
 #include <algorithm>
 #include <cmath>

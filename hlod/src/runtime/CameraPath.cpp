@@ -1,7 +1,7 @@
 // Camera paths: monotone cubic Hermite interpolation of keyframes after M. Steffen, "A simple
 // method for monotonic interpolation in one dimension" (Astron. Astrophys. 239, 1990), and the
 // path generators of the Lakhia walk-fly (shared/seeds/lakhia-hlod.txt, Fig. 7), drive and orbit.
-#include "hlod/CameraPath.h"
+#include "hlod/runtime/CameraPath.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hlod/Framing.h"
+#include "hlod/runtime/Framing.h"
 
 namespace hlod {
 

@@ -3,7 +3,7 @@
 // GPU are drawn at a coarser level, never waited for). See hlod/runtime/FrameDriver.h.
 #include "hlod/runtime/FrameDriver.h"
 
-#include "hlod/Framing.h"
+#include "hlod/runtime/Framing.h"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "hlod/FrameStats.h"
+#include "hlod/runtime/FrameStats.h"
 
 #include <algorithm>
 #include <cassert>
@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hlod/Loader.h"
-#include "hlod/Selector.h"
+#include "hlod/runtime/Loader.h"
+#include "hlod/runtime/Selector.h"
 
 namespace hlod {
 

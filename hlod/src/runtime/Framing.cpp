@@ -1,4 +1,4 @@
-#include "hlod/Framing.h"
+#include "hlod/runtime/Framing.h"
 
 #include <algorithm>
 #include <cassert>

@@ -1,7 +1,7 @@
 // Funkhouser & Sequin, "Adaptive display algorithm for interactive frame rates during
 // visualization of complex virtual environments" (SIGGRAPH 93), greedy benefit/cost variant on
-// the HLOD tree, as described in hlod/FsSelector.h.
-#include "hlod/FsSelector.h"
+// the HLOD tree, as described in hlod/runtime/FsSelector.h.
+#include "hlod/runtime/FsSelector.h"
 
 #include <algorithm>
 #include <cassert>
@@ -9,7 +9,7 @@
 #include <limits>
 #include <queue>
 
-#include "hlod/LakhiaSelector.h"
+#include "hlod/runtime/LakhiaSelector.h"
 
 namespace hlod {
 

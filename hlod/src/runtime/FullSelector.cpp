@@ -1,8 +1,8 @@
-#include "hlod/FullSelector.h"
+#include "hlod/runtime/FullSelector.h"
 
 #include <algorithm>
 
-#include "hlod/LakhiaSelector.h"
+#include "hlod/runtime/LakhiaSelector.h"
 
 namespace hlod {
 

@@ -1,5 +1,6 @@
-// Lakhia III-C front selection. See hlod/LakhiaSelector.h and the constants in LakhiaParams.
-#include "hlod/LakhiaSelector.h"
+// Lakhia III-C front selection. See hlod/runtime/LakhiaSelector.h and the constants in
+// LakhiaParams.
+#include "hlod/runtime/LakhiaSelector.h"
 
 #include <algorithm>
 #include <cassert>

@@ -1,5 +1,5 @@
-// Lakhia III-D loading thread. See hlod/Loader.h for the contract.
-#include "hlod/Loader.h"
+// Lakhia III-D loading thread. See hlod/runtime/Loader.h for the contract.
+#include "hlod/runtime/Loader.h"
 
 #include <algorithm>
 #include <cassert>

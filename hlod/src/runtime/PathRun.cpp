@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "hlod/Plots.h"
+#include "hlod/runtime/Plots.h"
 
 namespace hlod {
 

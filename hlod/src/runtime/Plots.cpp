@@ -1,4 +1,4 @@
-#include "hlod/Plots.h"
+#include "hlod/runtime/Plots.h"
 
 #include <algorithm>
 #include <cmath>

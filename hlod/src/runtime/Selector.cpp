@@ -1,13 +1,13 @@
-#include "hlod/Selector.h"
+#include "hlod/runtime/Selector.h"
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 
-#include "hlod/FsSelector.h"
-#include "hlod/FullSelector.h"
-#include "hlod/LakhiaSelector.h"
-#include "hlod/SseSelector.h"
+#include "hlod/runtime/FsSelector.h"
+#include "hlod/runtime/FullSelector.h"
+#include "hlod/runtime/LakhiaSelector.h"
+#include "hlod/runtime/SseSelector.h"
 
 namespace hlod {
 

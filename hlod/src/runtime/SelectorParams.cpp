@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "hlod/Selector.h"
+#include "hlod/runtime/Selector.h"
 
 namespace hlod {
 namespace {

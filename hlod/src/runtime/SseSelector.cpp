@@ -1,9 +1,9 @@
-#include "hlod/SseSelector.h"
+#include "hlod/runtime/SseSelector.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "hlod/LakhiaSelector.h"
+#include "hlod/runtime/LakhiaSelector.h"
 
 namespace hlod {
 

@@ -1,6 +1,6 @@
 // Scene files (docs/scene.md): one boundary where a scene's JSON is validated; past it the
 // renderer and loader trust the values (ranges asserted there).
-#include "hlod/SceneFile.h"
+#include "hlod/scene/SceneFile.h"
 
 #include <algorithm>
 #include <cassert>

@@ -1,4 +1,4 @@
-#include "hlod/NodeStore.h"
+#include "hlod/store/NodeStore.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

@@ -1,11 +1,11 @@
-// Encoding and strict decoding of node payloads (format in hlod/NodeStore.h).
+// Encoding and strict decoding of node payloads (format in hlod/store/NodeStore.h).
 #include <libdeflate.h>
 
 #include <cmath>
 #include <memory>
 #include <new>
 
-#include "hlod/NodeStore.h"
+#include "hlod/store/NodeStore.h"
 #include "store/ByteIO.h"
 
 namespace hlod {

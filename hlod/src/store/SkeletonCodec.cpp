@@ -1,8 +1,8 @@
-// skeleton.bin encoding and checked decoding (format in hlod/NodeStore.h).
+// skeleton.bin encoding and checked decoding (format in hlod/store/NodeStore.h).
 #include <cmath>
 #include <cstring>
 
-#include "hlod/NodeStore.h"
+#include "hlod/store/NodeStore.h"
 #include "store/ByteIO.h"
 
 namespace hlod {

@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <map>
 
-#include "hlod/SseSelector.h"
 #include "hlod/metrics/ImageMetrics.h"
+#include "hlod/runtime/SseSelector.h"
 
 namespace hlod::study {
 

@@ -8,7 +8,7 @@
 #include <map>
 #include <sstream>
 
-#include "hlod/Plots.h"
+#include "hlod/runtime/Plots.h"
 
 namespace hlod::study {
 

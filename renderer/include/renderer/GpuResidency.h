@@ -9,8 +9,8 @@
 #include <unordered_map>
 #include <utility>
 
-#include "hlod/Selector.h"
 #include "hlod/runtime/FrameDriver.h"
+#include "hlod/runtime/Selector.h"
 #include "renderer/GpuMesh.h"
 
 namespace renderer {

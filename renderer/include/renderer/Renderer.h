@@ -11,8 +11,8 @@
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
-#include "hlod/SceneFile.h"
 #include "hlod/metrics/ImageMetrics.h"
+#include "hlod/scene/SceneFile.h"
 #include "renderer/FrameView.h"
 #include "renderer/GlContext.h"
 #include "renderer/GpuMesh.h"
@@ -21,7 +21,7 @@
 
 namespace renderer {
 
-// The effects a scene declares (hlod/SceneFile.h). Only these are compiled and executed.
+// The effects a scene declares (hlod/scene/SceneFile.h). Only these are compiled and executed.
 using Effects = hlod::SceneEffects;
 
 struct RenderOptions {

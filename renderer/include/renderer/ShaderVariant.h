@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "hlod/SceneFile.h"
+#include "hlod/scene/SceneFile.h"
 
 namespace renderer {
 

@@ -3,10 +3,10 @@
 // default camera that frames it.
 #include <filesystem>
 
-#include "hlod/Import.h"
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
 #include "hlod/UpAxis.h"
+#include "hlod/import/Import.h"
 #include "renderer/FrameView.h"
 
 namespace service {

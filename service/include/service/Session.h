@@ -15,15 +15,15 @@
 #include <memory>
 #include <string>
 
-#include "hlod/CameraPath.h"
-#include "hlod/FrameStats.h"
-#include "hlod/Loader.h"
-#include "hlod/NodeSource.h"
 #include "hlod/Result.h"
-#include "hlod/Selector.h"
+#include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/FrameDriver.h"
+#include "hlod/runtime/FrameStats.h"
+#include "hlod/runtime/Loader.h"
 #include "hlod/runtime/NodeCache.h"
 #include "hlod/runtime/PathRun.h"
+#include "hlod/runtime/Selector.h"
+#include "hlod/store/NodeSource.h"
 #include "renderer/GlContext.h"
 #include "renderer/GpuNodeRenderer.h"
 #include "renderer/Renderer.h"

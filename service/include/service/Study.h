@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "hlod/CameraPath.h"
-#include "hlod/NodeSource.h"
-#include "hlod/SceneFile.h"
+#include "hlod/runtime/CameraPath.h"
+#include "hlod/scene/SceneFile.h"
+#include "hlod/store/NodeSource.h"
 #include "hlod/study/StudyReport.h"
 #include "renderer/GlContext.h"
 

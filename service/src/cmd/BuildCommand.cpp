@@ -5,10 +5,10 @@
 #include <string>
 
 #include "cmd/Commands.h"
-#include "hlod/Calibration.h"
-#include "hlod/City.h"
-#include "hlod/HlodBuilder.h"
-#include "hlod/Import.h"
+#include "hlod/builder/Calibration.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/city/City.h"
+#include "hlod/import/Import.h"
 #include "service/Args.h"
 #include "service/Progress.h"
 

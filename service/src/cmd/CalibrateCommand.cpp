@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "cmd/Commands.h"
-#include "hlod/Calibration.h"
-#include "hlod/City.h"
+#include "hlod/builder/Calibration.h"
+#include "hlod/city/City.h"
 #include "renderer/GlContext.h"
 #include "renderer/Renderer.h"
 #include "service/Args.h"

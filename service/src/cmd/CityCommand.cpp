@@ -3,7 +3,7 @@
 #include <string>
 
 #include "cmd/Commands.h"
-#include "hlod/City.h"
+#include "hlod/city/City.h"
 #include "service/Args.h"
 #include "service/Progress.h"
 

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cmd/Commands.h"
-#include "hlod/Import.h"
-#include "hlod/NodeStore.h"
+#include "hlod/import/Import.h"
+#include "hlod/store/NodeStore.h"
 #include "service/Args.h"
 
 namespace service::cmd {

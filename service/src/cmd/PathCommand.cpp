@@ -8,8 +8,8 @@
 
 #include "cmd/Commands.h"
 #include "cmd/SceneArgs.h"
-#include "hlod/CameraPath.h"
-#include "hlod/NodeStore.h"
+#include "hlod/runtime/CameraPath.h"
+#include "hlod/store/NodeStore.h"
 #include "service/Args.h"
 #include "service/Progress.h"
 #include "service/Session.h"

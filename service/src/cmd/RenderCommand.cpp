@@ -69,7 +69,8 @@ const char* const kRenderUsage =
     "  --plots                 also levels.svg, toggles.svg, frametime.svg (Lakhia Figs. 7-9)\n"
     "  --params N=V,...        selector constants by their names in the code, e.g.\n"
     "                          c_aim=0.95,c_vis=4,feedbackGain=0.2,ssePixels=16 (defaults and\n"
-    "                          meanings: hlod/include/hlod/Selector.h; a wrong name lists them)\n"
+    "                          meanings: hlod/include/hlod/runtime/Selector.h; a wrong name lists "
+    "them)\n"
     "  --scene, --quiet, --unlit, --no-textures, --fog   as above\n"
     "\n"
     "environment: HLODR_GL_BACKEND=egl|osmesa forces a GL backend (default: EGL, then OSMesa).\n";

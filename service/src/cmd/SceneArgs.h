@@ -3,7 +3,7 @@
 // --no-textures, --fog), not both.
 #include <optional>
 
-#include "hlod/SceneFile.h"
+#include "hlod/scene/SceneFile.h"
 #include "service/Args.h"
 
 namespace service::cmd {

@@ -6,9 +6,9 @@
 #include <thread>
 
 #include "cmd/Commands.h"
-#include "hlod/Calibration.h"
-#include "hlod/City.h"
-#include "hlod/HlodBuilder.h"
+#include "hlod/builder/Calibration.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/city/City.h"
 #include "service/Args.h"
 #include "service/Progress.h"
 #include "service/Server.h"

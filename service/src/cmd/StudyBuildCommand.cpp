@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "cmd/Commands.h"
-#include "hlod/City.h"
-#include "hlod/Import.h"
+#include "hlod/city/City.h"
+#include "hlod/import/Import.h"
 #include "hlod/study/BuildStudy.h"
 #include "service/Args.h"
 #include "service/Progress.h"

@@ -4,7 +4,7 @@
 
 #include "cmd/Commands.h"
 #include "cmd/SceneArgs.h"
-#include "hlod/NodeStore.h"
+#include "hlod/store/NodeStore.h"
 #include "service/Args.h"
 #include "service/Progress.h"
 #include "service/Study.h"

@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hlod/FrameStats.h"
-#include "hlod/SceneFile.h"
+#include "hlod/runtime/FrameStats.h"
+#include "hlod/scene/SceneFile.h"
 #include "renderer/ImageEncoder.h"
 #include "server/JsonInput.h"
 

@@ -14,9 +14,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hlod/CameraPath.h"
-#include "hlod/FrameStats.h"
+#include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/FrameDriver.h"
+#include "hlod/runtime/FrameStats.h"
 #include "server/ApiTypes.h"
 #include "server/Metrics.h"
 #include "server/RenderWorker.h"

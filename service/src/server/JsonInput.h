@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hlod/Camera.h"
 #include "hlod/Result.h"
+#include "hlod/runtime/Camera.h"
 
 namespace service::server {
 

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hlod/SceneFile.h"
+#include "hlod/scene/SceneFile.h"
 #include "server/ApiTypes.h"
 #include "server/SceneRegistry.h"
 

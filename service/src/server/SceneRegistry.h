@@ -14,10 +14,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hlod/Camera.h"
-#include "hlod/NodeStore.h"
-#include "hlod/SceneFile.h"
+#include "hlod/runtime/Camera.h"
 #include "hlod/runtime/NodeCache.h"
+#include "hlod/scene/SceneFile.h"
+#include "hlod/store/NodeStore.h"
 
 namespace service::server {
 

@@ -25,11 +25,11 @@
 #include <string>
 #include <vector>
 
-#include "hlod/CameraPath.h"
-#include "hlod/FrameStats.h"
-#include "hlod/Loader.h"
 #include "hlod/Result.h"
-#include "hlod/Selector.h"
+#include "hlod/runtime/CameraPath.h"
+#include "hlod/runtime/FrameStats.h"
+#include "hlod/runtime/Loader.h"
+#include "hlod/runtime/Selector.h"
 
 namespace hlod {
 

@@ -8,9 +8,9 @@
 #include <span>
 #include <string>
 
-#include "hlod/CameraPath.h"
-#include "hlod/FrameStats.h"
+#include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/FrameDriver.h"
+#include "hlod/runtime/FrameStats.h"
 
 namespace hlod {
 

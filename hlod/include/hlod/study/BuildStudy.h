@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "hlod/HlodBuilder.h"
 #include "hlod/Result.h"
+#include "hlod/builder/HlodBuilder.h"
 
 namespace hlod::study {
 

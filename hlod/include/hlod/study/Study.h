@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "hlod/Camera.h"
 #include "hlod/Mesh.h"
-#include "hlod/Skeleton.h"
+#include "hlod/runtime/Camera.h"
 #include "hlod/runtime/FrameDriver.h"
+#include "hlod/store/Skeleton.h"
 
 namespace hlod::study {
 

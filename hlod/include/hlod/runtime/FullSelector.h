@@ -2,7 +2,7 @@
 // The reference: every visible leaf. A leaf that is not resident is replaced by its nearest
 // resident ancestor (with the group rule: a node is refined only when all its visible children
 // are resident, since a parent covers all its children).
-#include "hlod/Selector.h"
+#include "hlod/runtime/Selector.h"
 
 namespace hlod {
 

@@ -1,4 +1,4 @@
-#include "hlod/VertexClustering.h"
+#include "hlod/builder/VertexClustering.h"
 
 #include <algorithm>
 #include <limits>

@@ -40,9 +40,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include "hlod/NodeSource.h"
-#include "hlod/Selector.h"
 #include "hlod/runtime/NodeCache.h"
+#include "hlod/runtime/Selector.h"
+#include "hlod/store/NodeSource.h"
 
 namespace hlod {
 

@@ -3,7 +3,7 @@
 // geometricError projected at its distance exceeds ssePixels, with frustum culling and the same
 // residency rule as Lakhia (a visible child not resident keeps its parent on the front). No time
 // budget: estimatedMs is reported from the same v_time estimate, for the statistics.
-#include "hlod/Selector.h"
+#include "hlod/runtime/Selector.h"
 
 namespace hlod {
 

@@ -1,4 +1,4 @@
-#include "hlod/PlaneSplit.h"
+#include "hlod/builder/PlaneSplit.h"
 
 #include <algorithm>
 #include <cmath>

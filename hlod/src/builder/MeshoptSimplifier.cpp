@@ -6,7 +6,7 @@
 
 #include <meshoptimizer.h>
 
-#include "build/SimplifierImpl.h"
+#include "builder/SimplifierImpl.h"
 
 namespace hlod {
 

@@ -8,7 +8,7 @@
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
-#include "hlod/Skeleton.h"
+#include "hlod/store/Skeleton.h"
 
 namespace hlod {
 

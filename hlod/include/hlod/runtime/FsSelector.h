@@ -5,7 +5,7 @@
 // estimate as Lakhia's) stays within c_targetTime. Benefit is Lakhia's benefit; no hysteresis.
 #include <vector>
 
-#include "hlod/Selector.h"
+#include "hlod/runtime/Selector.h"
 
 namespace hlod {
 

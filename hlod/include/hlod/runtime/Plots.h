@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "hlod/FrameStats.h"
 #include "hlod/Result.h"
+#include "hlod/runtime/FrameStats.h"
 
 namespace hlod {
 

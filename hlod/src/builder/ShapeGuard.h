@@ -2,7 +2,7 @@
 // Keeps a reduced shape true to the original (private to build/).
 #include <functional>
 
-#include "hlod/Simplifier.h"
+#include "hlod/builder/Simplifier.h"
 
 namespace hlod {
 

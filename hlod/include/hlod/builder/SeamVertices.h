@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "hlod/Mesh.h"
-#include "hlod/PlaneSplit.h"
+#include "hlod/builder/PlaneSplit.h"
 
 namespace hlod {
 

@@ -21,11 +21,11 @@
 #include <string>
 #include <vector>
 
-#include "hlod/NodeStore.h"
-#include "hlod/PlaneSplit.h"
-#include "hlod/Preprocess.h"
-#include "hlod/SeamVertices.h"
-#include "hlod/Simplifier.h"
+#include "hlod/builder/PlaneSplit.h"
+#include "hlod/builder/Preprocess.h"
+#include "hlod/builder/SeamVertices.h"
+#include "hlod/builder/Simplifier.h"
+#include "hlod/store/NodeStore.h"
 
 namespace hlod {
 

@@ -1,4 +1,4 @@
-#include "hlod/SeamVertices.h"
+#include "hlod/builder/SeamVertices.h"
 
 #include <algorithm>
 #include <cmath>

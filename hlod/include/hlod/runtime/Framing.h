@@ -4,9 +4,9 @@
 // and the frame driver's calibration frame.
 #include <glm/glm.hpp>
 
-#include "hlod/Camera.h"
 #include "hlod/Mesh.h"
 #include "hlod/UpAxis.h"
+#include "hlod/runtime/Camera.h"
 
 namespace hlod {
 

@@ -1,6 +1,6 @@
 // Lakhia et al., "Interactive rendering of large city models", sec. III-A (model preparation)
 // and III-B (per-node pre-processing).
-#include "hlod/HlodBuilder.h"
+#include "hlod/builder/HlodBuilder.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,9 +12,9 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
-#include "build/SimplifierImpl.h"
-#include "hlod/City.h"
-#include "hlod/PlaneSplit.h"
+#include "builder/SimplifierImpl.h"
+#include "hlod/builder/PlaneSplit.h"
+#include "hlod/city/City.h"
 
 namespace hlod {
 

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "hlod/Simplifier.h"
+#include "hlod/builder/Simplifier.h"
 
 namespace hlod {
 

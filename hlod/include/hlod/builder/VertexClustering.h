@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "hlod/Simplifier.h"
+#include "hlod/builder/Simplifier.h"
 
 namespace hlod {
 

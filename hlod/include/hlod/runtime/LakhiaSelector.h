@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "hlod/Camera.h"
-#include "hlod/Selector.h"
+#include "hlod/runtime/Camera.h"
+#include "hlod/runtime/Selector.h"
 
 namespace hlod {
 

@@ -1,9 +1,9 @@
 // Lakhia et al., "Interactive rendering of large city models", sec. III-B, eqs. 1-3.
-#include "hlod/Preprocess.h"
+#include "hlod/builder/Preprocess.h"
 
 #include <cmath>
 
-#include "hlod/PlaneSplit.h"
+#include "hlod/builder/PlaneSplit.h"
 
 namespace hlod {
 

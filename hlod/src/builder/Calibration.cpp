@@ -1,4 +1,4 @@
-#include "hlod/Calibration.h"
+#include "hlod/builder/Calibration.h"
 
 #include <cmath>
 #include <cstdlib>

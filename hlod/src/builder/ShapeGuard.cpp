@@ -6,13 +6,13 @@
 // triangles, and the vertices where it happened are locked for another reduction; what remains
 // after the last round is repaired directly: flipped triangles turned to face the surface,
 // shards dropped, and the error raised to the distance measured.
-#include "build/ShapeGuard.h"
+#include "builder/ShapeGuard.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "hlod/VertexClustering.h"
+#include "hlod/builder/VertexClustering.h"
 #include "hlod/metrics/SimplifiedFacing.h"
 #include "hlod/metrics/SurfaceDistance.h"
 

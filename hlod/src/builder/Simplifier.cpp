@@ -1,4 +1,4 @@
-#include "hlod/Simplifier.h"
+#include "hlod/builder/Simplifier.h"
 
 #include <algorithm>
 #include <array>
@@ -9,8 +9,8 @@
 #include <string>
 #include <unordered_map>
 
-#include "build/ShapeGuard.h"
-#include "build/SimplifierImpl.h"
+#include "builder/ShapeGuard.h"
+#include "builder/SimplifierImpl.h"
 
 namespace hlod {
 

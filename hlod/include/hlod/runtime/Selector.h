@@ -20,9 +20,9 @@
 #include <string_view>
 #include <vector>
 
-#include "hlod/Camera.h"
 #include "hlod/Result.h"
-#include "hlod/Skeleton.h"
+#include "hlod/runtime/Camera.h"
+#include "hlod/store/Skeleton.h"
 
 namespace hlod {
 

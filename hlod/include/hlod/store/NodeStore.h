@@ -26,7 +26,7 @@
 #include <span>
 #include <vector>
 
-#include "hlod/NodeSource.h"
+#include "hlod/store/NodeSource.h"
 
 namespace hlod {
 

@@ -40,9 +40,9 @@
 
 #include <glm/glm.hpp>
 
-#include "hlod/Camera.h"
 #include "hlod/Result.h"
-#include "hlod/Skeleton.h"
+#include "hlod/runtime/Camera.h"
+#include "hlod/store/Skeleton.h"
 
 namespace hlod {
 

@@ -9,7 +9,7 @@
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
-#include "build/SimplifierImpl.h"
+#include "builder/SimplifierImpl.h"
 
 namespace hlod {
 
