@@ -166,14 +166,16 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
 
   http.Get("/api/scenes", [&](const Request&, Response& res) {
     api.scenes.scan(api.log);  // stores built since the start appear
+    // The data folder's scene files, read once, each under its store (the page's scene picker).
+    const auto files = api.scenes.sceneFiles();
     nlohmann::json list = nlohmann::json::array();
     for (const auto& s : api.scenes.all()) {
       nlohmann::json j = s->summary();
-      // The scene files on this store, for the page's scene picker.
       j["sceneFiles"] = nlohmann::json::array();
-      for (const auto& [name, file] : api.scenes.sceneFilesOf(s->id))
-        j["sceneFiles"].push_back(
-            {{"name", name}, {"effects", hlod::declaredEffects(file.effects)}});
+      for (const auto& f : files)
+        if (f.storeId == s->id)
+          j["sceneFiles"].push_back(
+              {{"name", f.name}, {"effects", hlod::declaredEffects(f.file.effects)}});
       list.push_back(std::move(j));
     }
     sendJson(res, 200, {{"scenes", list}});

@@ -173,8 +173,7 @@ std::string SceneRegistry::storeIdOf(const std::string& storePath) {
   return store;
 }
 
-std::vector<std::pair<std::string, hlod::SceneFile>> SceneRegistry::sceneFilesOf(
-    const std::string& id) const {
+std::vector<SceneRegistry::SceneFileEntry> SceneRegistry::sceneFiles() const {
   // Scene files are a few hundred bytes: anything large is not one, and a folder of thousands of
   // JSON files is not worth reading on every listing.
   constexpr std::uintmax_t kMaxBytes = 1 << 20;
@@ -189,11 +188,11 @@ std::vector<std::pair<std::string, hlod::SceneFile>> SceneRegistry::sceneFilesOf
     files.push_back(p);
   }
   std::sort(files.begin(), files.end());
-  std::vector<std::pair<std::string, hlod::SceneFile>> out;
+  std::vector<SceneFileEntry> out;
   for (const fs::path& p : files) {
     auto file = hlod::readSceneFile(p);
-    if (file && !file->store.empty() && storeIdOf(file->store) == id)
-      out.emplace_back(p.filename().string(), std::move(*file));
+    if (file && !file->store.empty())
+      out.push_back({p.filename().string(), storeIdOf(file->store), std::move(*file)});
   }
   return out;
 }

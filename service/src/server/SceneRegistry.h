@@ -48,10 +48,15 @@ class SceneRegistry {
   // Opens the stores not opened yet; a broken one is skipped with a line to `log`.
   void scan(const std::function<void(const std::string&)>& log);
   std::shared_ptr<Scene> find(const std::string& id) const;
-  // The scene files (NAME.json, docs/scene.md) directly in the data folder whose store is `id`,
-  // read afresh, by name. Other JSON files (camera paths, broken scenes) are left out: a request
-  // that names one gets its parse error.
-  std::vector<std::pair<std::string, hlod::SceneFile>> sceneFilesOf(const std::string& id) const;
+  // The scene files (NAME.json, docs/scene.md) directly in the data folder, read afresh, by name,
+  // with the store id each names. Other JSON files (camera paths, broken scenes) are left out: a
+  // request that names one gets its parse error.
+  struct SceneFileEntry {
+    std::string name;
+    std::string storeId;
+    hlod::SceneFile file;
+  };
+  std::vector<SceneFileEntry> sceneFiles() const;
   // The store id a scene file's "store" names: its folder name without ".hlod" ("city.hlod",
   // "../out/city.hlod" and "city" are all "city").
   static std::string storeIdOf(const std::string& storePath);
