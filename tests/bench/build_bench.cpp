@@ -1,126 +1,158 @@
-// Build throughput (input triangles/s) and peak memory (ru_maxrss) of the HLOD builder on the
-// procedural city, per simplifier, and the peak memory of a city ten times larger: the builder
-// streams blocks, so memory should stay bounded by the largest block, not grow with the city.
+// The builder on the default city and on every shared mesh, per simplifier: input triangles,
+// leaf triangles (and their ratio), the store's size stored and decoded (textures apart), build
+// rate and peak memory. Each build is a `hlodr build` child process, so its peak RSS is its own
+// (wait4), and an older hlodr can be measured side by side with --hlodr. The figures come from
+// `hlodr info STORE --json`; an hlodr whose info has no texture fields prints "-" there.
 //
-// Each case runs in a child process, so that its ru_maxrss is its own. Blocks come from
-// hlod::generateBlock one at a time (the city generator's own stream), straight into the
-// streaming HlodBuilder; the store is written to a temporary folder and removed.
-//
-// usage: build_bench [--blocks N] [--big-blocks N] [--desired-tri N]
+// usage: build_bench [--hlodr PATH] [--simplifiers meshopt,openmesh] [--threads N]
+//                    [--city-blocks N] [--cases city,bunny00.off,...]
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 #include <string>
+#include <vector>
 
-#include "hlod/builder/HlodBuilder.h"
-#include "hlod/city/City.h"
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
 
 namespace {
 
-struct CaseResult {
-  double seconds = 0;
-  unsigned long long triangles = 0;
-  unsigned long long nodes = 0;
-  unsigned long long payloadBytes = 0;
-  int ok = 0;
+struct Run {
+  bool ok = false;
+  double seconds = 0.0;
+  double peakMb = 0.0;
 };
 
-CaseResult runCase(int blocks, const std::string& simplifier, std::uint32_t desiredTri) {
-  CaseResult r;
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("hlodr-build-bench-" + std::to_string(::getpid()) + ".hlod");
-  hlod::BuildOptions o;
-  o.simplifier = simplifier;
-  o.desiredTri = desiredTri;
-  auto builder = hlod::HlodBuilder::create(dir, o);
-  if (!builder) return r;
-  hlod::CityOptions city;
-  city.blocks = blocks;
+// Runs argv to completion; its wall time and peak RSS.
+Run runChild(const std::vector<std::string>& argv) {
+  Run r;
   const auto t0 = std::chrono::steady_clock::now();
-  for (int i = 0; i < blocks; ++i) {
-    const hlod::Mesh block = hlod::generateBlock(city, i);
-    r.triangles += block.triangleCount();
-    if (!(*builder)->addBlock(block)) return r;
-  }
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  auto skel = (*builder)->finish(secs);
-  r.seconds = secs;
-  if (skel) {
-    r.nodes = skel->nodes.size();
-    std::error_code ec;
-    r.payloadBytes = std::filesystem::file_size(dir / "payload.bin", ec);
-    r.ok = 1;
-  }
-  std::filesystem::remove_all(dir);
-  return r;
-}
-
-// Generation alone, to subtract from the build figures.
-CaseResult runGenerateOnly(int blocks) {
-  CaseResult r;
-  hlod::CityOptions city;
-  city.blocks = blocks;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int i = 0; i < blocks; ++i) r.triangles += hlod::generateBlock(city, i).triangleCount();
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.ok = 1;
-  return r;
-}
-
-void report(const char* name, int blocks, const std::string& simplifier, std::uint32_t desiredTri,
-            bool generateOnly) {
-  int fds[2];
-  if (pipe(fds) != 0) return;
   const pid_t pid = fork();
   if (pid == 0) {
-    close(fds[0]);
-    const CaseResult r =
-        generateOnly ? runGenerateOnly(blocks) : runCase(blocks, simplifier, desiredTri);
-    if (write(fds[1], &r, sizeof r) != sizeof r) _exit(1);
-    _exit(0);
+    std::vector<char*> args;
+    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execv(args[0], args.data());
+    _exit(127);
   }
-  close(fds[1]);
-  CaseResult r;
-  const bool got = read(fds[0], &r, sizeof r) == sizeof r;
-  close(fds[0]);
   int status = 0;
   struct rusage usage {};
   wait4(pid, &status, 0, &usage);
-  if (!got || !r.ok) {
-    std::printf("%-26s FAILED\n", name);
-    return;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.peakMb = double(usage.ru_maxrss) / 1024.0;
+  r.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  return r;
+}
+
+std::string output(const std::string& command) {
+  std::string out;
+  if (FILE* p = popen(command.c_str(), "r")) {
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    pclose(p);
   }
-  std::printf(
-      "%-26s %5d blocks %11llu tri %7.1f s %8.3f Mtri/s %7llu nodes %9.1f MB payload "
-      "%8.1f MB peak RSS\n",
-      name, blocks, r.triangles, r.seconds, r.triangles / r.seconds / 1e6, r.nodes,
-      r.payloadBytes / 1e6, usage.ru_maxrss / 1024.0);
-  std::fflush(stdout);
+  return out;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+std::string mb(const nlohmann::json& levels, const char* field) {
+  double sum = 0.0;
+  for (const auto& l : levels) {
+    if (!l.contains(field)) return "-";
+    sum += l[field].get<double>();
+  }
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", sum / 1e6);
+  return buf;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  int blocks = hlod::kDefaultCityBlocks, bigBlocks = 10 * hlod::kDefaultCityBlocks;
-  std::uint32_t desiredTri = hlod::kDefaultDesiredTri;
+  std::string hlodr = HLODR_BINARY, threads;
+  std::vector<std::string> simplifiers = {"meshopt", "openmesh"};
+  std::vector<std::string> cases = {"city",        "bunny00.off",         "refined_elephant.off",
+                                    "armadillo.off", "head.stl",          "2CylinderEngine.glb",
+                                    "peterbilt/peterbilt.obj", "rotterdam-delfshaven.cityjson.json"};
+  std::string cityBlocks = "64";
   for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--blocks")) blocks = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--big-blocks")) bigBlocks = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--desired-tri")) desiredTri = std::uint32_t(std::atoi(argv[i + 1]));
+    const std::string o = argv[i], v = argv[i + 1];
+    if (o == "--hlodr") hlodr = v;
+    else if (o == "--simplifiers") simplifiers = split(v);
+    else if (o == "--threads") threads = v;
+    else if (o == "--city-blocks") cityBlocks = v;
+    else if (o == "--cases") cases = split(v);
+    else {
+      std::fprintf(stderr, "build_bench: unknown option %s\n", o.c_str());
+      return 2;
+    }
   }
-  std::printf(
-      "HLOD build benchmark: default city = %d blocks, large city = %d blocks, "
-      "desiredTri %u, levelFactor 3\n",
-      blocks, bigBlocks, desiredTri);
-  report("generate only", blocks, "", desiredTri, true);
-  report("build city, meshopt", blocks, "meshopt", desiredTri, false);
-  report("build city, openmesh", blocks, "openmesh", desiredTri, false);
-  if (bigBlocks > 0) report("build 10x city, meshopt", bigBlocks, "meshopt", desiredTri, false);
+  const fs::path tmp = fs::temp_directory_path() / ("hlodr-build-bench-" + std::to_string(getpid()));
+  fs::create_directories(tmp);
+  std::printf("HLOD build benchmark: %s, threads %s\n", hlodr.c_str(),
+              threads.empty() ? "default" : threads.c_str());
+  std::printf("%-34s %-8s %10s %10s %6s %9s %9s %9s %9s %7s %7s %8s\n", "case", "simp", "input",
+              "leaves", "ratio", "stored", "of which", "decoded", "of which", "build", "Mtri/s",
+              "peak");
+  std::printf("%-34s %-8s %10s %10s %6s %9s %9s %9s %9s %7s %7s %8s\n", "", "", "triangles",
+              "triangles", "", "MB", "tex MB", "MB", "tex MB", "s", "", "RSS MB");
+  for (const std::string& c : cases) {
+    fs::path input = fs::path(HLODR_SHARED_DATA) / c;
+    if (c == "city") {
+      input = tmp / "city";
+      if (!runChild({hlodr, "city", "-o", input.string(), "--blocks", cityBlocks, "--quiet"}).ok) {
+        std::printf("%-34s city generation FAILED\n", c.c_str());
+        continue;
+      }
+    } else if (!fs::exists(input)) {
+      std::printf("%-34s skipped: %s is absent\n", c.c_str(), input.c_str());
+      continue;
+    }
+    for (const std::string& s : simplifiers) {
+      const fs::path store = tmp / "store.hlod";
+      std::vector<std::string> args = {hlodr,           "build", input.string(), "-o",
+                                       store.string(),  "--simplifier", s, "--quiet"};
+      if (!threads.empty()) args.insert(args.end(), {"--threads", threads});
+      const Run r = runChild(args);
+      if (!r.ok) {
+        std::printf("%-34s %-8s build FAILED\n", c.c_str(), s.c_str());
+        continue;
+      }
+      nlohmann::json info;
+      try {
+        info = nlohmann::json::parse(output("'" + hlodr + "' info '" + store.string() + "' --json"));
+      } catch (const std::exception& e) {
+        std::printf("%-34s %-8s info FAILED (%s)\n", c.c_str(), s.c_str(), e.what());
+        continue;
+      }
+      const double in = info["inputTriangles"].get<double>();
+      const double leaves = info["leafTriangles"].get<double>();
+      std::printf("%-34s %-8s %10.0f %10.0f %6.3f %9.1f %9s %9s %9s %7.1f %7.3f %8.0f\n",
+                  c.c_str(), s.c_str(), in, leaves, leaves / in,
+                  info["payloadBytes"].get<double>() / 1e6,
+                  mb(info["levels"], "texturePayloadBytes").c_str(),
+                  mb(info["levels"], "memoryBytes").c_str(),
+                  mb(info["levels"], "textureMemoryBytes").c_str(), r.seconds,
+                  in / r.seconds / 1e6, r.peakMb);
+      std::fflush(stdout);
+      fs::remove_all(store);
+    }
+  }
+  fs::remove_all(tmp);
   return 0;
 }

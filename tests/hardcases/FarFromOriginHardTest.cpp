@@ -160,6 +160,7 @@ TEST_F(FarFromOrigin, SettledFramesOfAStoreMoveWithACameraMovingAMillimetreAFram
     model.meshes.push_back(plate(place, 32));
     hlod::BuildOptions build;
     build.desiredTri = 200;
+    build.minLeafTri = 200;
     const auto store = dir / (place.enu ? "far.hlod" : "near.hlod");
     auto built = hlod::buildStoreFromModel(model, store, build);
     ASSERT_TRUE(built.ok()) << built.message();

@@ -353,3 +353,36 @@ TEST(NodeStoreOpen, MissingStoreIsAnError) {
   ASSERT_FALSE(s);
   EXPECT_NE(s.message().find("not a node store"), std::string::npos);
 }
+
+// Blocks are prepared on every core and committed in order: the store does not depend on the
+// thread count (the same payload bytes and node records).
+TEST(NodeStoreParallelBuild, TwoThreadsWriteTheStoreOneThreadWrites) {
+  const fs::path dir = tempDir("parallel");
+  Model model = smallModel();
+  model.meshes.push_back(testmesh::sphere(40, 60, 3.0));
+  std::vector<Skeleton> built;
+  for (unsigned threads : {1u, 2u, 5u}) {
+    BuildOptions o;
+    o.desiredTri = 100;
+    o.minLeafTri = 100;
+    o.maxBlockTriangles = 500;
+    o.threads = threads;
+    auto s = buildStoreFromModel(model, dir / ("t" + std::to_string(threads)), o);
+    ASSERT_TRUE(s) << s.message();
+    built.push_back(*s);
+  }
+  ASSERT_GT(built[0].roots.size(), 6u);  // many blocks, so that the workers overlap
+  const auto payload = readFile(dir / "t1" / "payload.bin");
+  for (std::size_t k = 1; k < built.size(); ++k) {
+    EXPECT_EQ(readFile(dir / ("t" + std::to_string(k == 1 ? 2 : 5)) / "payload.bin"), payload);
+    ASSERT_EQ(built[k].nodes.size(), built[0].nodes.size());
+    EXPECT_EQ(built[k].roots, built[0].roots);
+    for (std::size_t i = 0; i < built[0].nodes.size(); ++i) {
+      EXPECT_EQ(built[k].nodes[i].payloadOffset, built[0].nodes[i].payloadOffset);
+      EXPECT_EQ(built[k].nodes[i].parent, built[0].nodes[i].parent);
+      EXPECT_EQ(built[k].nodes[i].numTri, built[0].nodes[i].numTri);
+      EXPECT_EQ(built[k].nodes[i].geometricError, built[0].nodes[i].geometricError);
+    }
+  }
+  fs::remove_all(dir);
+}

@@ -3,17 +3,23 @@
 #include "hlod/builder/HlodBuilder.h"
 
 #include <algorithm>
+#include <cassert>
+#include <limits>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
 #include <cmath>
-#include <deque>
 #include <map>
+#include <optional>
 #include <unordered_map>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include "builder/Preprocess.h"
 #include "builder/SimplifierImpl.h"
-#include "hlod/builder/PlaneSplit.h"
+#include "builder/SlabPartition.h"
 #include "hlod/city/City.h"
 
 namespace hlod {
@@ -28,43 +34,50 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 namespace {
 
-// A node with factor s is split into children while s > 1 (and its piece has an extent to cut).
-bool isInner(double s, const Aabb& box) {
-  return s > 1.0 && box.size()[longestAxis(box)] > 0.0;
-}
-
-// The children of a piece: levelFactor slabs along its longest axis, each bounded by its parent's
-// planes and the slab planes on either side.
-struct Children {
-  SlabSplit slabs;
-  std::vector<std::vector<CutPlane>> planes;  // per slab
+// Where the vertices of a welded block stand: one id per distinct position, how many triangle
+// corners of the whole block each position has, and whether another block shares it. A piece's
+// vertex with fewer corners in the piece than in the block lies on the piece's border.
+struct BlockBorders {
+  std::vector<std::uint32_t> positionOf;  // per block vertex
+  std::vector<std::uint32_t> corners;     // per position
+  std::vector<std::uint8_t> seam;         // per position
+  std::vector<std::uint32_t> scratch;     // per position, zero between calls of lockBorder
 };
-Children splitPiece(const Mesh& piece, const Aabb& box, const std::vector<CutPlane>& planes,
-                    int levelFactor) {
-  Children c;
-  c.slabs = splitIntoSlabs(piece, box, levelFactor);
-  for (std::size_t k = 0; k < c.slabs.pieces.size(); ++k) {
-    std::vector<CutPlane> own = planes;
-    if (k > 0) own.push_back({c.slabs.axis, c.slabs.planes[k - 1]});
-    if (k < c.slabs.planes.size()) own.push_back({c.slabs.axis, c.slabs.planes[k]});
-    c.planes.push_back(std::move(own));
-  }
-  return c;
+
+BlockBorders blockBorders(const Mesh& block, std::span<const glm::dvec3> seam) {
+  BlockBorders b;
+  std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> id;
+  b.positionOf.resize(block.positions.size());
+  for (std::size_t v = 0; v < block.positions.size(); ++v)
+    b.positionOf[v] =
+        id.try_emplace(block.positions[v] + glm::dvec3(0.0), std::uint32_t(id.size())).first->second;
+  b.corners.assign(id.size(), 0);
+  b.seam.assign(id.size(), 0);
+  b.scratch.assign(id.size(), 0);
+  for (std::uint32_t v : block.indices) ++b.corners[b.positionOf[v]];
+  for (const glm::dvec3& p : seam)
+    if (auto it = id.find(p + glm::dvec3(0.0)); it != id.end()) b.seam[it->second] = 1;
+  return b;
 }
 
-// One flag per vertex: on one of the piece's bounding planes (a cut shared with a neighbour).
-std::vector<std::uint8_t> cutVertices(const Mesh& piece, const std::vector<CutPlane>& planes) {
+// One flag per vertex of the piece (origin: its block vertices): kVertexLocked where the rest of
+// the block or another block has the same position.
+std::vector<std::uint8_t> lockBorder(const Mesh& piece, const std::vector<std::uint32_t>& origin,
+                                     BlockBorders& b) {
+  for (std::uint32_t v : piece.indices) ++b.scratch[b.positionOf[origin[v]]];
   std::vector<std::uint8_t> locked(piece.positions.size(), 0);
-  for (std::size_t v = 0; v < piece.positions.size(); ++v)
-    for (const CutPlane& plane : planes)
-      if (plane.contains(piece.positions[v])) locked[v] = 1;
+  for (std::size_t v = 0; v < piece.positions.size(); ++v) {
+    const std::uint32_t p = b.positionOf[origin[v]];
+    if (b.seam[p] || b.scratch[p] < b.corners[p]) locked[v] = kVertexLocked;
+  }
+  for (std::uint32_t v : piece.indices) b.scratch[b.positionOf[origin[v]]] = 0;
   return locked;
 }
 
 // Adds the outline flags of the piece's vertices on the block's sides: kVertexOnOutline on a
 // straight run of the open border there (or off the border: a kerb face lying in the side),
 // kVertexLocked at a corner of it, where a collapse would cut the corner off and open a crack.
-void markOutline(const Mesh& piece, const std::vector<CutPlane>& sides,
+void markOutline(const Mesh& piece, std::span<const CutPlane> sides,
                  std::vector<std::uint8_t>& flags) {
   if (sides.empty()) return;
   std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> id;
@@ -116,141 +129,85 @@ double errorLimit(double blockArea, std::size_t blockTriangles, double s) {
   return std::sqrt(blockArea * s / double(std::max<std::size_t>(1, blockTriangles)));
 }
 
-int clampedLevelFactor(const BuildOptions& options) {
-  return std::max(2, options.levelFactor);
-}
-
 double rootSimplification(const Mesh& welded, const BuildOptions& options) {
   return double(welded.triangleCount()) / std::max<std::uint32_t>(1, options.desiredTri);
 }
 
-// What the slab cuts of one block may add to its triangles, in all. A cut through a pile of
-// coincident triangles cuts every one of them, at every level: 20,000 copies of one quad grew
-// 211-fold on the way to the leaves, 200,000 ended in bad_alloc. Once the spare (as many
-// triangles as the block holds) is spent, a piece whose cut would add more stays a leaf with its
-// original triangles. Both buildBlockHierarchy and planBlockSeams cut breadth-first, so both
-// spend it alike and agree on every cut.
-class CutSpare {
- public:
-  explicit CutSpare(std::size_t triangles) : left_(triangles) {}
-  // True (and spent) when the children add no more triangles than are left.
-  bool take(const Mesh& piece, const Children& c) {
-    std::size_t children = 0;
-    for (const Mesh& m : c.slabs.pieces) children += m.triangleCount();
-    const std::size_t added = children - std::min(children, piece.triangleCount());
-    if (added > left_) return false;
-    left_ -= added;
-    return true;
-  }
-
- private:
-  std::size_t left_;
-};
-
 }  // namespace
-
-SeamVertices planBlockSeams(const Mesh& block, const BuildOptions& options,
-                            const std::vector<CutPlane>& blockPlanes) {
-  // The same cuts as buildBlockHierarchy, without simplifying: only the seam vertices are kept.
-  SeamVertices seams;
-  struct Pending {
-    Mesh piece;
-    std::vector<CutPlane> planes;
-    double s;
-  };
-  Mesh welded = weldVertices(block);
-  if (welded.triangleCount() == 0) return seams;
-  CutSpare spare(welded.triangleCount());
-  std::deque<Pending> queue;  // breadth-first, as buildBlockHierarchy (see CutSpare)
-  const double s0 = rootSimplification(welded, options);
-  queue.push_back({std::move(welded), blockPlanes, s0});
-  while (!queue.empty()) {
-    Pending p = std::move(queue.front());
-    queue.pop_front();
-    seams.collect(p.piece, p.planes);
-    const Aabb box = p.piece.bounds();
-    if (!isInner(p.s, box)) continue;
-    Children c = splitPiece(p.piece, box, p.planes, clampedLevelFactor(options));
-    if (!spare.take(p.piece, c)) continue;
-    for (std::size_t k = 0; k < c.slabs.pieces.size(); ++k) {
-      if (c.slabs.pieces[k].triangleCount() == 0) continue;
-      queue.push_back({std::move(c.slabs.pieces[k]), std::move(c.planes[k]),
-                       p.s / double(clampedLevelFactor(options))});
-    }
-  }
-  return seams;
-}
 
 std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions& options,
                                            const Simplifier& simplifier,
-                                           const std::vector<CutPlane>& blockPlanes,
-                                           const SeamVertices* neighbourSeams,
-                                           const std::vector<CutPlane>& blockSides) {
+                                           std::span<const glm::dvec3> seam,
+                                           std::span<const CutPlane> blockSides) {
+  assert(options.levelFactor >= 2 && options.minLeafTri >= 1);
   std::vector<BlockNode> nodes;
   Mesh welded = weldVertices(block);
   if (welded.triangleCount() == 0) return nodes;
-  const int levelFactor = clampedLevelFactor(options);
-  CutSpare spare(welded.triangleCount());
-  SeamVertices seams;
-  if (neighbourSeams) seams.merge(*neighbourSeams);
-
+  const int levelFactor = options.levelFactor;
+  BlockBorders borders = blockBorders(welded, seam);
   const double blockArea = surfaceArea(welded);
   const std::size_t blockTriangles = welded.triangleCount();
-  // Pieces waiting to become nodes: their original (cut, unsimplified) triangles.
+  // Pieces waiting to become nodes: their original triangles, and their vertices' block vertices.
   std::vector<Mesh> pieces;
+  std::vector<std::vector<std::uint32_t>> origins;
   nodes.emplace_back();
   nodes[0].info.parent = kNoNode;
   nodes[0].simplification = rootSimplification(welded, options);  // s_hlod0
-  nodes[0].planes = blockPlanes;
+  origins.emplace_back(welded.positions.size());
+  for (std::uint32_t v = 0; v < origins[0].size(); ++v) origins[0][v] = v;
   pieces.push_back(std::move(welded));
 
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     Mesh piece = std::move(pieces[i]);
+    std::vector<std::uint32_t> origin = std::move(origins[i]);
     pieces[i] = Mesh{};
+    origins[i] = {};
     const double s = nodes[i].simplification;
     const Aabb box = piece.bounds();
     nodes[i].info.bounds = box;
     nodes[i].info.centre = box.centre();
-    seams.collect(piece, nodes[i].planes);
     // Children: levelFactor slabs of the piece's original triangles, s_{d+1} = s_d / levelFactor.
     // (The nodes are visited breadth-first: nodes[] grows level by level.)
-    Children c;
-    bool inner = isInner(s, box);
+    SlabPartition slabs;
+    bool inner = s > 1.0 && piece.triangleCount() >= std::size_t(levelFactor) * options.minLeafTri;
     if (inner) {
-      c = splitPiece(piece, box, nodes[i].planes, levelFactor);
-      inner = spare.take(piece, c);
+      slabs = partitionIntoSlabs(piece, levelFactor);
+      mergeSmallSlabs(slabs, options.minLeafTri);
+      // One slab left: the triangles bunch up in one slab; divide them by count instead.
+      if (slabs.triangles.size() < 2) slabs = partitionByCount(piece, levelFactor);
+      // Still one: the centroids all lie on one plane.
+      inner = slabs.triangles.size() > 1;
     }
-    if (inner) {
-      const auto target =
-          std::max<std::size_t>(1, std::size_t(std::llround(double(piece.triangleCount()) / s)));
-      std::vector<std::uint8_t> locked = cutVertices(piece, nodes[i].planes);
-      markOutline(piece, blockSides, locked);
-      SimplifiedMesh simplified =
-          simplifier.simplify(piece, target, locked, errorLimit(blockArea, blockTriangles, s));
-      nodes[i].mesh = std::move(simplified.mesh);
-      nodes[i].info.geometricError = simplified.geometricError;
-      nodes[i].cutAxis = c.slabs.axis;
-      nodes[i].cutPlanes = c.slabs.planes;
-      piece = Mesh{};
-      nodes[i].info.firstChild = std::uint32_t(nodes.size());
-      for (std::size_t k = 0; k < c.slabs.pieces.size(); ++k) {
-        if (c.slabs.pieces[k].triangleCount() == 0) continue;  // an empty slab is no node
-        BlockNode n;
-        n.info.parent = std::uint32_t(i);
-        n.info.level = nodes[i].info.level + 1;
-        n.simplification = s / double(levelFactor);
-        n.planes = std::move(c.planes[k]);
-        nodes.push_back(std::move(n));
-        pieces.push_back(std::move(c.slabs.pieces[k]));
-        ++nodes[i].info.childCount;
-      }
-    } else {
+    if (!inner) {
       nodes[i].mesh = std::move(piece);  // a leaf: the original triangles
+      nodes[i].simplification = 1.0;
       nodes[i].info.geometricError = 0.0;
+      continue;
+    }
+    const auto target =
+        std::max<std::size_t>(1, std::size_t(std::llround(double(piece.triangleCount()) / s)));
+    std::vector<std::uint8_t> locked = lockBorder(piece, origin, borders);
+    markOutline(piece, blockSides, locked);
+    SimplifiedMesh simplified =
+        simplifier.simplify(piece, target, locked, errorLimit(blockArea, blockTriangles, s));
+    nodes[i].mesh = std::move(simplified.mesh);
+    nodes[i].info.geometricError = simplified.geometricError;
+    nodes[i].cutAxis = slabs.axis;
+    nodes[i].cutPlanes = slabs.planes;
+    nodes[i].info.firstChild = std::uint32_t(nodes.size());
+    for (const std::vector<std::uint32_t>& triangles : slabs.triangles) {
+      BlockNode n;
+      n.info.parent = std::uint32_t(i);
+      n.info.level = nodes[i].info.level + 1;
+      n.simplification = s / double(levelFactor);
+      nodes.push_back(std::move(n));
+      std::vector<std::uint32_t> local;
+      pieces.push_back(subMesh(piece, triangles, &local));
+      for (std::uint32_t& v : local) v = origin[v];
+      origins.push_back(std::move(local));
+      ++nodes[i].info.childCount;
     }
   }
-  // Every node gets the seam vertices its neighbours (finer, or under other parents) have.
-  for (BlockNode& n : nodes) seams.insertInto(n.mesh, n.planes);
   // A parent is never more accurate than its children: make the error monotone, bottom up.
   for (std::size_t i = nodes.size(); i-- > 1;) {
     auto& parent = nodes[nodes[i].info.parent].info;
@@ -286,37 +243,56 @@ void appendMesh(Mesh& dst, const Mesh& src) {
   for (std::uint32_t i : src.indices) dst.indices.push_back(base + i);
 }
 
-// `spare`: the triangles that cuts may still add, shared by the whole recursion. A cut through
-// a pile of coincident triangles cuts every one of them, so both halves can hold more triangles
-// than the whole; without this bound such a pile grew by half at each of the 48 levels
-// (200,000 copies of one quad ended in bad_alloc). Such a block stays whole: the triangle
-// bound is a memory target, not a contract.
-void splitUntilSmall(Mesh mesh, std::vector<CutPlane> planes, std::size_t maxTriangles, int depth,
-                     std::size_t& spare, std::vector<Block>& out) {
-  const Aabb box = mesh.bounds();
+// Halves the triangles (indices into the group's mesh) at the middle of their centroids' longest
+// extent until each part has at most maxTriangles. Both halves of a cut are non-empty, so parts
+// only shrink; triangles whose centroids coincide cannot be separated and stay one part. The depth
+// bound keeps the recursion's stack small for any spread of centroids.
+void halveUntilSmall(const std::vector<glm::dvec3>& centroids, std::vector<std::uint32_t> triangles,
+                     std::size_t maxTriangles, int depth,
+                     std::vector<std::vector<std::uint32_t>>& out) {
+  Aabb box;
+  for (std::uint32_t t : triangles) box.extend(centroids[t]);
   const int axis = longestAxis(box);
-  // Depth bound: triangles piled at one point cannot be separated by any plane.
-  if (mesh.triangleCount() <= maxTriangles || depth >= 48 || !(box.size()[axis] > 0.0)) {
-    out.push_back({std::move(mesh), std::move(planes), {}});
+  if (triangles.size() <= maxTriangles || depth >= 48 || !(box.size()[axis] > 0.0)) {
+    out.push_back(std::move(triangles));
     return;
   }
-  const CutPlane cut{axis, box.centre()[axis]};
-  PlaneSplitResult halves = splitByPlane(mesh, axis, cut.value);
-  const std::size_t whole = mesh.triangleCount();
-  const std::size_t below = halves.below.triangleCount(), above = halves.above.triangleCount();
-  const std::size_t added = below + above - std::min(below + above, whole);
-  if (added > spare) {
-    out.push_back({std::move(mesh), std::move(planes), {}});
-    return;
+  const double mid = box.centre()[axis];
+  std::vector<std::uint32_t> below, above;
+  for (std::uint32_t t : triangles) (centroids[t][axis] <= mid ? below : above).push_back(t);
+  triangles = {};
+  halveUntilSmall(centroids, std::move(below), maxTriangles, depth + 1, out);
+  halveUntilSmall(centroids, std::move(above), maxTriangles, depth + 1, out);
+}
+
+// The parts of one welded mesh as blocks, each with the positions it shares with the others.
+void appendBlocks(const Mesh& mesh, const std::vector<std::vector<std::uint32_t>>& parts,
+                  std::vector<Block>& blocks) {
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  constexpr std::uint32_t kShared = kNone - 1;
+  std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> owner;  // part, or kShared
+  if (parts.size() > 1)
+    for (std::uint32_t k = 0; k < parts.size(); ++k)
+      for (std::uint32_t t : parts[k])
+        for (int c = 0; c < 3; ++c) {
+          auto [it, fresh] =
+              owner.try_emplace(mesh.positions[mesh.indices[std::size_t(t) * 3 + c]] +
+                                    glm::dvec3(0.0),
+                                k);
+          if (!fresh && it->second != k) it->second = kShared;
+        }
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    Block block;
+    block.mesh = subMesh(mesh, parts[k]);
+    if (parts.size() > 1) block.mesh.name = mesh.name + "#" + std::to_string(k);
+    std::unordered_map<glm::dvec3, char, PositionHash> seen;
+    for (const glm::dvec3& p : block.mesh.positions) {
+      auto it = owner.find(p + glm::dvec3(0.0));
+      if (it != owner.end() && it->second == kShared && seen.try_emplace(p + glm::dvec3(0.0)).second)
+        block.seam.push_back(p);
+    }
+    blocks.push_back(std::move(block));
   }
-  spare -= added;
-  mesh = Mesh{};
-  planes.push_back(cut);
-  if (below > 0)
-    splitUntilSmall(std::move(halves.below), planes, maxTriangles, depth + 1, spare, out);
-  if (above > 0)
-    splitUntilSmall(std::move(halves.above), std::move(planes), maxTriangles, depth + 1, spare,
-                    out);
 }
 
 }  // namespace
@@ -338,15 +314,18 @@ std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles) {
     appendMesh(it->second, m);
   }
   std::vector<Block> blocks;
-  for (auto& [key, mesh] : groups) {
-    std::vector<Block> parts;
-    std::size_t spare = mesh.triangleCount();  // cuts may at most double the triangles
-    splitUntilSmall(weldVertices(mesh), {}, std::max<std::size_t>(1, maxTriangles), 0, spare,
-                    parts);
-    for (std::size_t i = 0; i < parts.size(); ++i) {
-      if (parts.size() > 1) parts[i].mesh.name = mesh.name + "#" + std::to_string(i);
-      blocks.push_back(std::move(parts[i]));
+  for (auto& [key, group] : groups) {
+    const Mesh mesh = weldVertices(group);
+    group = Mesh{};
+    std::vector<glm::dvec3> centroids(mesh.triangleCount());
+    std::vector<std::uint32_t> all(mesh.triangleCount());
+    for (std::uint32_t t = 0; t < all.size(); ++t) {
+      all[t] = t;
+      centroids[t] = centroid(mesh, t);
     }
+    std::vector<std::vector<std::uint32_t>> parts;
+    halveUntilSmall(centroids, std::move(all), std::max<std::size_t>(1, maxTriangles), 0, parts);
+    appendBlocks(mesh, parts, blocks);
   }
   return blocks;
 }
@@ -357,8 +336,8 @@ Image resizeImage(const Image& image, int width, int height) {
   out.height = height;
   out.pixels.resize(std::size_t(width) * height * 4);
   // OpenImageIO's box filter, one destination pixel wide: each output pixel is the mean of the
-  // source pixels under it. Both buffers are wrapped, not copied; one thread (the builder runs
-  // blocks in sequence and owns the machine's cores for simplification).
+  // source pixels under it. Both buffers are wrapped, not copied; one thread (the builder prepares
+  // blocks on every core already).
   const OIIO::ImageBuf src(OIIO::ImageSpec(image.width, image.height, 4, OIIO::TypeDesc::UINT8),
                            const_cast<std::uint8_t*>(image.pixels.data()));
   OIIO::ImageBuf dst(OIIO::ImageSpec(width, height, 4, OIIO::TypeDesc::UINT8), out.pixels.data());
@@ -414,6 +393,7 @@ Result<std::unique_ptr<HlodBuilder>> HlodBuilder::create(const std::filesystem::
   if (options.levelFactor < 2 || options.levelFactor > 64)
     return makeError("levelFactor must be an integer in [2, 64]");
   if (options.desiredTri < 1) return makeError("desiredTri must be at least 1");
+  if (options.minLeafTri < 1) return makeError("minLeafTri must be at least 1");
   if (!(options.cTex >= 0.0 && options.cTex <= 1.0)) return makeError("c_tex must be in [0, 1]");
   auto simplifier = makeSimplifier(options.simplifier);
   if (!simplifier) return simplifier.error();
@@ -436,21 +416,18 @@ void HlodBuilder::setModelFrame(UpAxis up, const ModelCrs& crs) {
   skeleton_.crs = crs;
 }
 
-Status HlodBuilder::addBlock(const Mesh& block, const std::vector<CutPlane>& planes,
-                             const SeamVertices* neighbourSeams,
-                             const std::vector<CutPlane>& sides) {
-  inputTriangles_ += block.triangleCount();
-  std::vector<BlockNode> local =
-      buildBlockHierarchy(block, options_, *simplifier_, planes, neighbourSeams, sides);
-  if (local.empty()) return Ok{};
-  if (skeleton_.nodes.size() + local.size() >= kNoNode) return makeError("too many nodes");
-  const auto base = std::uint32_t(skeleton_.nodes.size());
-  skeleton_.roots.push_back(base);
+Status HlodBuilder::addBlock(const Mesh& block, std::span<const glm::dvec3> seam,
+                             std::span<const CutPlane> sides) {
+  return commitBlock(prepareBlock(block, seam, sides));
+}
+
+PreparedBlock HlodBuilder::prepareBlock(const Mesh& block, std::span<const glm::dvec3> seam,
+                                        std::span<const CutPlane> sides) const {
+  PreparedBlock out;
+  out.inputTriangles = block.triangleCount();
+  std::vector<BlockNode> local = buildBlockHierarchy(block, options_, *simplifier_, seam, sides);
   for (BlockNode& n : local) {
     NodeInfo info = n.info;
-    if (info.parent != kNoNode) info.parent += base;
-    if (info.childCount > 0) info.firstChild += base;
-    info.block = blockCount_;
     const NodeMeasures m = measureNode(n.mesh, options_.cTex);
     info.numTri = m.numTri;
     info.numTexTri = m.numTexTri;
@@ -466,7 +443,25 @@ Status HlodBuilder::addBlock(const Mesh& block, const std::vector<CutPlane>& pla
     else
       lm.texture = nullptr;
     n.mesh = Mesh{};
-    if (auto s = writer_->appendPayload(lm, info); !s) return s;
+    out.payloads.push_back(storePayload(lm));
+    out.nodes.push_back(info);
+  }
+  return out;
+}
+
+Status HlodBuilder::commitBlock(PreparedBlock&& block) {
+  inputTriangles_ += block.inputTriangles;
+  if (block.nodes.empty()) return Ok{};
+  if (skeleton_.nodes.size() + block.nodes.size() >= kNoNode) return makeError("too many nodes");
+  const auto base = std::uint32_t(skeleton_.nodes.size());
+  skeleton_.roots.push_back(base);
+  for (std::size_t k = 0; k < block.nodes.size(); ++k) {
+    NodeInfo info = block.nodes[k];
+    if (info.parent != kNoNode) info.parent += base;
+    if (info.childCount > 0) info.firstChild += base;
+    info.block = blockCount_;
+    if (auto s = writer_->appendStored(block.payloads[k], info); !s) return s;
+    block.payloads[k] = {};
     skeleton_.nodes.push_back(info);
   }
   ++blockCount_;
@@ -486,13 +481,72 @@ Result<Skeleton> HlodBuilder::finish(double buildSeconds) {
 
 namespace {
 
-// Blocks cut from one mesh share planes: each block's nodes need the seam vertices that the cuts
-// inside its neighbours put on those planes.
-SeamVertices planSeams(const std::vector<Block>& blocks, const BuildOptions& options) {
-  SeamVertices all;
-  if (blocks.size() < 2) return all;
-  for (const Block& b : blocks) all.merge(planBlockSeams(b.mesh, options, b.planes));
-  return all;
+// Prepares items 0..count-1 on `threads` workers and commits them in order on the calling
+// thread, so the store does not depend on the thread count. A worker starts item i only when
+// fewer than 2 x threads items wait to be committed: memory is bounded by the items in flight.
+// An error (or an exception, such as bad_alloc) stops the workers and is returned.
+using PrepareFn = std::function<Result<std::vector<PreparedBlock>>(std::size_t)>;
+Status prepareInParallel(HlodBuilder& builder, std::size_t count, unsigned threads,
+                         const PrepareFn& prepare,
+                         const std::function<void(std::size_t, std::uint64_t)>& committed) {
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = unsigned(std::min<std::size_t>(threads, std::max<std::size_t>(1, count)));
+  const std::size_t window = 2 * std::size_t(threads);
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<std::optional<Result<std::vector<PreparedBlock>>>> slots(count);
+  std::size_t next = 0, done = 0;  // next item to start; items committed
+  bool stop = false;
+  const auto work = [&] {
+    for (;;) {
+      std::size_t i;
+      {
+        std::unique_lock lock(mutex);
+        changed.wait(lock, [&] { return stop || next >= count || next < done + window; });
+        if (stop || next >= count) return;
+        i = next++;
+      }
+      Result<std::vector<PreparedBlock>> r = makeError("not prepared");
+      try {
+        r = prepare(i);
+      } catch (const std::exception& e) {
+        r = makeError(std::string("block ") + std::to_string(i) + ": " + e.what());
+      }
+      std::lock_guard lock(mutex);
+      slots[i] = std::move(r);
+      changed.notify_all();
+    }
+  };
+  std::vector<std::thread> workers;
+  for (unsigned t = 0; t < threads; ++t) workers.emplace_back(work);
+  Status status = Ok{};
+  for (std::size_t i = 0; i < count && status; ++i) {
+    Result<std::vector<PreparedBlock>> item = makeError("");
+    {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return slots[i].has_value(); });
+      item = std::move(*slots[i]);
+      slots[i].reset();
+    }
+    std::uint64_t triangles = 0;
+    if (!item) {
+      status = item.error();
+    } else {
+      for (PreparedBlock& b : *item) {
+        triangles += b.inputTriangles;
+        if (status) status = builder.commitBlock(std::move(b));
+      }
+    }
+    {
+      std::lock_guard lock(mutex);
+      ++done;
+      if (!status) stop = true;
+      changed.notify_all();
+    }
+    if (status && committed) committed(i, triangles);
+  }
+  for (std::thread& w : workers) w.join();
+  return status;
 }
 
 }  // namespace
@@ -506,15 +560,21 @@ Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::
   std::vector<Block> blocks = cutIntoBlocks(model, options.maxBlockTriangles);
   BuildProgress p;
   p.blockCount = blocks.size();
-  const SeamVertices seams = planSeams(blocks, options);
-  for (Block& block : blocks) {
-    if (auto s = (*builder)->addBlock(block.mesh, block.planes, &seams); !s) return s.error();
-    p.trianglesDone += block.mesh.triangleCount();
-    block = Block{};
+  const HlodBuilder& b = **builder;
+  const auto prepare = [&](std::size_t i) -> Result<std::vector<PreparedBlock>> {
+    std::vector<PreparedBlock> out;
+    out.push_back(b.prepareBlock(blocks[i].mesh, blocks[i].seam));
+    blocks[i] = Block{};  // each worker frees its own block
+    return out;
+  };
+  const auto committed = [&](std::size_t, std::uint64_t triangles) {
+    p.trianglesDone += triangles;
     ++p.blocksDone;
     p.seconds = secondsSince(t0);
     if (progress) progress(p);
-  }
+  };
+  if (auto s = prepareInParallel(**builder, blocks.size(), options.threads, prepare, committed); !s)
+    return s.error();
   return (*builder)->finish(secondsSince(t0));
 }
 
@@ -531,8 +591,9 @@ Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
   if (!builder) return builder.error();
   BuildProgress p;
   p.blockCount = manifest->blocks.size();
-  for (std::size_t i = 0; i < manifest->blocks.size(); ++i) {
-    // One block in memory at a time: load, build its subtree, free.
+  const HlodBuilder& b = **builder;
+  const auto prepare = [&](std::size_t i) -> Result<std::vector<PreparedBlock>> {
+    // One block per worker in memory at a time: load, build its subtree, free.
     auto block = loadCityBlock(*manifest, i);
     if (!block) return block.error();
     // A city block is one texture already; split only blocks over the bound.
@@ -541,19 +602,26 @@ Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
     std::vector<Block> parts = cutIntoBlocks(one, options.maxBlockTriangles);
     // A city block's sides (the middles of its streets, on its box) meet its neighbours' ground.
     const Aabb box = one.bounds();
-    for (Block& part : parts)
+    one = Model{};
+    std::vector<PreparedBlock> out;
+    for (Block& part : parts) {
       for (int axis = 0; axis < 2; ++axis)
         for (double v : {box.min[axis], box.max[axis]}) part.sides.push_back({axis, v});
-    const SeamVertices seams = planSeams(parts, options);
-    for (const Block& part : parts) {
-      if (auto s = (*builder)->addBlock(part.mesh, part.planes, &seams, part.sides); !s)
-        return s.error();
-      p.trianglesDone += part.mesh.triangleCount();
+      out.push_back(b.prepareBlock(part.mesh, part.seam, part.sides));
+      part = Block{};
     }
+    return out;
+  };
+  const auto committed = [&](std::size_t, std::uint64_t triangles) {
+    p.trianglesDone += triangles;
     ++p.blocksDone;
     p.seconds = secondsSince(t0);
     if (progress) progress(p);
-  }
+  };
+  if (auto s = prepareInParallel(**builder, manifest->blocks.size(), options.threads, prepare,
+                                 committed);
+      !s)
+    return s.error();
   return (*builder)->finish(secondsSince(t0));
 }
 

@@ -1,9 +1,8 @@
 // Lakhia et al., "Interactive rendering of large city models", sec. III-B, eqs. 1-3.
-#include "hlod/builder/Preprocess.h"
+#include "builder/Preprocess.h"
 
 #include <cmath>
 
-#include "hlod/builder/PlaneSplit.h"
 
 namespace hlod {
 
@@ -43,6 +42,18 @@ NodeMeasures measureNode(const Mesh& mesh, double cTex) {
   m.staticBenefit = staticBenefit(m.numTri, m.area);
   m.avgNormal = averageNormal(mesh);
   return m;
+}
+
+double surfaceArea(const Mesh& mesh) {
+  double area = 0.0;
+  const std::size_t nv = mesh.positions.size();
+  for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const auto a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
+    if (a >= nv || b >= nv || c >= nv) continue;
+    area += 0.5 * glm::length(glm::cross(mesh.positions[b] - mesh.positions[a],
+                                         mesh.positions[c] - mesh.positions[a]));
+  }
+  return area;
 }
 
 }  // namespace hlod

@@ -172,7 +172,7 @@ NodeStoreWriter::~NodeStoreWriter() {
   }
 }
 
-Status NodeStoreWriter::appendPayload(const LocalMesh& mesh, NodeInfo& node) {
+StoredPayload storePayload(const LocalMesh& mesh) {
   const std::vector<std::byte> raw = encodePayload(mesh);
   // The pixels end the payload (see the format): they become a section of their own, so that
   // a scene without textures reads, inflates and keeps none of them.
@@ -181,19 +181,29 @@ Status NodeStoreWriter::appendPayload(const LocalMesh& mesh, NodeInfo& node) {
       mesh.texture->pixels.size() == std::size_t(mesh.texture->width) * mesh.texture->height * 4;
   const std::size_t pixelBytes = textured ? mesh.texture->pixels.size() : 0;
   const std::span<const std::byte> all(raw);
-  const std::vector<std::byte> meshSection = compressPayload(all.first(raw.size() - pixelBytes));
-  const std::vector<std::byte> textureSection =
-      pixelBytes ? compressPayload(all.last(pixelBytes)) : std::vector<std::byte>{};
-  for (const auto* section : {&meshSection, &textureSection})
+  StoredPayload p;
+  p.mesh = compressPayload(all.first(raw.size() - pixelBytes));
+  if (pixelBytes) p.texture = compressPayload(all.last(pixelBytes));
+  p.memoryBytes = raw.size();
+  p.textureBytes = pixelBytes;
+  return p;
+}
+
+Status NodeStoreWriter::appendPayload(const LocalMesh& mesh, NodeInfo& node) {
+  return appendStored(storePayload(mesh), node);
+}
+
+Status NodeStoreWriter::appendStored(const StoredPayload& payload, NodeInfo& node) {
+  for (const auto* section : {&payload.mesh, &payload.texture})
     if (std::fwrite(section->data(), 1, section->size(), payload_) != section->size())
       return makeError("cannot write payload.bin (disk full?)");
   node.payloadOffset = payloadBytes_;
-  node.payloadSize = meshSection.size() + textureSection.size();
-  node.payloadChecksum = crc32(meshSection);
-  node.memoryBytes = raw.size();
-  node.textureSize = textureSection.size();
-  node.textureChecksum = pixelBytes ? crc32(textureSection) : 0;
-  node.textureBytes = pixelBytes;
+  node.payloadSize = payload.mesh.size() + payload.texture.size();
+  node.payloadChecksum = crc32(payload.mesh);
+  node.memoryBytes = payload.memoryBytes;
+  node.textureSize = payload.texture.size();
+  node.textureChecksum = payload.textureBytes ? crc32(payload.texture) : 0;
+  node.textureBytes = payload.textureBytes;
   payloadBytes_ += node.payloadSize;
   return Ok{};
 }

@@ -59,7 +59,7 @@ Status BuildStudy::addBlock(const Block& block) {
     o.simplifier = simplifiers_[k]->name();
     const auto t0 = std::chrono::steady_clock::now();
     const std::vector<BlockNode> nodes =
-        buildBlockHierarchy(block.mesh, o, *simplifiers_[k], block.planes);
+        buildBlockHierarchy(block.mesh, o, *simplifiers_[k], block.seam, block.sides);
     f.buildSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     f.inputTriangles += original.triangleCount();
     int depth = 0;

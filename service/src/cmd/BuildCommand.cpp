@@ -1,8 +1,13 @@
 // `hlodr build`: turns a mesh, a glTF scene or a city folder into an HLOD node store.
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <thread>
 
 #include "cmd/Commands.h"
 #include "hlod/builder/Calibration.h"
@@ -16,7 +21,8 @@ namespace service::cmd {
 
 const char* const kBuildUsage =
     "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tris N]\n"
-    "                   [--simplifier meshopt|openmesh] [--c-tex X] [--max-block-tri N]\n"
+    "                   [--min-leaf-tris N] [--simplifier meshopt|openmesh] [--c-tex X]\n"
+    "                   [--max-block-tri N] [--threads N]\n"
     "                   [--lod X] [--up x|y|z] [--quiet]\n"
     "\n"
     "Builds the HLOD node store (Lakhia et al. III-A/B) that `hlodr render` streams from disk.\n"
@@ -25,9 +31,10 @@ const char* const kBuildUsage =
     "(CityJSON: by colour, see README) and cut into blocks of at most --max-block-tri\n"
     "triangles along their longest axis.\n"
     "Per block: hlod_0 is the block simplified to desiredTri triangles; each level down has\n"
-    "levelFactor times more detail, cut into levelFactor pieces perpendicular to the longest\n"
-    "dimension, down to leaves that hold the original triangles. Cut vertices are locked so\n"
-    "neighbouring nodes meet without cracks.\n"
+    "levelFactor times more detail, divided into levelFactor pieces perpendicular to the\n"
+    "longest dimension (each triangle whole to the piece its centre lies in), down to leaves\n"
+    "that hold exactly the original triangles. Vertices a piece shares with its neighbours are\n"
+    "locked, so neighbouring nodes meet on the same edges at every level.\n"
     "\n"
     "options:\n"
     "  -o, --output DIR     the store folder to write (written under a temporary name and\n"
@@ -35,11 +42,15 @@ const char* const kBuildUsage =
     "  --level-factor N     C_levelFactor, 2..16 (default 3)\n"
     "  --desired-tris N     C_desiredTri, triangles per node, 16..10000000 (default 800;\n"
     "                       --desired-tri is the same option)\n"
+    "  --min-leaf-tris N    a piece is divided only when its children would hold N triangles\n"
+    "                       on average: leaves hold N..levelFactor*N (default 2000)\n"
     "  --simplifier NAME    meshopt (default, meshoptimizer) or openmesh (quadric decimater)\n"
     "  --c-tex X            c_tex of the cost (eq. 1), 0..1; default: the value `hlodr\n"
     "                       calibrate` stored ($HLODR_CALIBRATION or\n"
     "                       ~/.config/hlodr/calibration.json), else 0.6\n"
     "  --max-block-tri N    block size bound for mesh files (default 200000)\n"
+    "  --threads N          blocks built at once, 1..256 (default: one per core); memory grows\n"
+    "                       with the blocks in flight, the store is the same for any N\n"
     "  --lod X              CityJSON: the level of detail to import, as the file names it (1, 2,\n"
     "                       2.2 ...); objects without it are left out (default: each city\n"
     "                       object at its highest)\n"
@@ -64,7 +75,7 @@ std::string formatSeconds(double s) {
 int runBuild(const Argv& argv) {
   auto args = Args::parse(argv, {"quiet"},
                           {"output", "level-factor", "desired-tris", "desired-tri", "simplifier",
-                           "c-tex", "max-block-tri", "lod", "up"});
+                           "c-tex", "max-block-tri", "lod", "up", "min-leaf-tris", "threads"});
   if (!args) {
     std::fprintf(stderr, "hlodr build: %s\n%s", args.message().c_str(), kBuildUsage);
     return 2;
@@ -84,7 +95,9 @@ int runBuild(const Argv& argv) {
   const auto desiredTri = args->integer(desiredTriName, hlod::kDefaultDesiredTri, 16, 10000000);
   const auto maxBlock =
       args->integer("max-block-tri", hlod::kDefaultMaxBlockTriangles, 1000, 100000000);
-  for (const auto* r : {&levelFactor, &desiredTri, &maxBlock})
+  const auto minLeaf = args->integer("min-leaf-tris", hlod::kDefaultMinLeafTri, 1, 10000000);
+  const auto threads = args->integer("threads", 0, 1, 256);
+  for (const auto* r : {&levelFactor, &desiredTri, &maxBlock, &minLeaf, &threads})
     if (!*r) {
       std::fprintf(stderr, "hlodr build: %s\n", r->message().c_str());
       return 2;
@@ -92,6 +105,8 @@ int runBuild(const Argv& argv) {
   hlod::BuildOptions options;
   options.levelFactor = int(*levelFactor);
   options.desiredTri = std::uint32_t(*desiredTri);
+  options.minLeafTri = std::uint32_t(*minLeaf);
+  options.threads = unsigned(*threads);
   options.maxBlockTriangles = std::size_t(*maxBlock);
   options.simplifier = args->get("simplifier", "meshopt");
   if (options.simplifier != "meshopt" && options.simplifier != "openmesh") {
@@ -128,7 +143,10 @@ int runBuild(const Argv& argv) {
   }
 
   ProgressLine lines("build", quiet);
+  const auto t0 = std::chrono::steady_clock::now();  // import included
+  std::uint64_t inputTriangles = 0;
   auto progress = [&](const hlod::BuildProgress& p) {
+    inputTriangles = p.trianglesDone;
     const double rate = p.seconds > 0 ? double(p.trianglesDone) / p.seconds : 0.0;
     const double eta =
         p.blocksDone ? p.seconds / double(p.blocksDone) * double(p.blockCount - p.blocksDone) : 0.0;
@@ -190,6 +208,15 @@ int runBuild(const Argv& argv) {
         out->c_str(), built->nodes.size(), built->roots.size(), depth, options.levelFactor,
         options.desiredTri, options.simplifier.c_str(), options.cTex, cTexSource.c_str(),
         hlod::upAxisName(built->up));
+    // ru_maxrss: kilobytes on Linux.
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("built in %s on %u threads: %.2f M input triangles/s, peak memory %.0f MB\n",
+                formatSeconds(seconds).c_str(),
+                options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency()),
+                seconds > 0 ? double(inputTriangles) / seconds / 1e6 : 0.0,
+                double(usage.ru_maxrss) / 1024.0);
   }
   return 0;
 }

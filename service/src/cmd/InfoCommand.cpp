@@ -171,6 +171,7 @@ int runInfo(const Argv& argv) {
   struct Level {
     std::size_t nodes = 0, leaves = 0;
     std::uint64_t triangles = 0, payloadBytes = 0, memoryBytes = 0;
+    std::uint64_t textureStored = 0, textureBytes = 0;  // of the above, the textures'
   };
   std::map<std::uint32_t, Level> levels;
   std::uint64_t leafTriangles = 0;
@@ -184,6 +185,8 @@ int runInfo(const Argv& argv) {
     l.triangles += n.numTri;
     l.payloadBytes += n.payloadSize;
     l.memoryBytes += n.memoryBytes;
+    l.textureStored += n.textureSize;
+    l.textureBytes += n.textureBytes;
     if (s.isLeaf(i)) {
       ++l.leaves;
       leafTriangles += n.numTri;
@@ -192,8 +195,7 @@ int runInfo(const Argv& argv) {
   const std::size_t depth = levels.size();
   const Spread leafSpread = spreadOf(std::move(leafTris)),
                nodeSpread = spreadOf(std::move(nodeTris));
-  // The leaves hold the input's triangles, less those the build dropped (degenerate, welded),
-  // plus those cuts added.
+  // The leaves hold the input's triangles, less those the build dropped (degenerate, welded).
   const double leafRatio =
       f.inputTriangles > 0 ? double(leafTriangles) / double(f.inputTriangles) : 0.0;
   // The decoder let only printable ASCII through; printable() keeps that promise here too.
@@ -227,7 +229,9 @@ int runInfo(const Argv& argv) {
                              {"leaves", l.leaves},
                              {"triangles", l.triangles},
                              {"payloadBytes", l.payloadBytes},
-                             {"memoryBytes", l.memoryBytes}});
+                             {"memoryBytes", l.memoryBytes},
+                             {"texturePayloadBytes", l.textureStored},
+                             {"textureMemoryBytes", l.textureBytes}});
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -248,15 +252,21 @@ int runInfo(const Argv& argv) {
   std::printf("leaf / input  %.4f\n", leafRatio);
   std::printf("tris/node     leaves: %s\n", describe(leafSpread).c_str());
   std::printf("              all nodes: %s\n", describe(nodeSpread).c_str());
-  std::uint64_t memory = 0;
-  for (const auto& [d, l] : levels) memory += l.memoryBytes;
-  std::printf("payload       %.2f MB stored (deflated), %.2f MB decoded\n",
-              double(f.payloadBytes) / 1e6, double(memory) / 1e6);
-  std::printf("\n  level     nodes    leaves     triangles   stored MB  decoded MB\n");
+  Level all;
+  for (const auto& [d, l] : levels) {
+    all.memoryBytes += l.memoryBytes;
+    all.textureStored += l.textureStored;
+    all.textureBytes += l.textureBytes;
+  }
+  std::printf("payload       %.2f MB stored (deflated; %.2f MB of it textures), %.2f MB decoded"
+              " (%.2f MB textures)\n",
+              double(f.payloadBytes) / 1e6, double(all.textureStored) / 1e6,
+              double(all.memoryBytes) / 1e6, double(all.textureBytes) / 1e6);
+  std::printf("\n  level     nodes    leaves     triangles   stored MB  decoded MB  texture MB\n");
   for (const auto& [d, l] : levels)
-    std::printf("  %5u  %8zu  %8zu  %12llu  %10.2f  %10.2f\n", d, l.nodes, l.leaves,
+    std::printf("  %5u  %8zu  %8zu  %12llu  %10.2f  %10.2f  %10.2f\n", d, l.nodes, l.leaves,
                 (unsigned long long)l.triangles, double(l.payloadBytes) / 1e6,
-                double(l.memoryBytes) / 1e6);
+                double(l.memoryBytes) / 1e6, double(l.textureBytes) / 1e6);
   return 0;
 }
 

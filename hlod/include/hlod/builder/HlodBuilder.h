@@ -2,13 +2,17 @@
 // The HLOD builder (Lakhia III-A and III-B): blocks in, a node store on disk out.
 //
 // Per block b: hlod_0 is the block simplified to desiredTri triangles (simplification factor
-// s_0 = numTri_b / desiredTri); a node with factor s > 1 is split by levelFactor - 1 planes
-// perpendicular to the longest dimension of its piece (equal widths) into levelFactor children,
-// each simplified from the original triangles of its piece with factor s / levelFactor. A node
-// whose factor is <= 1 is a leaf and holds its piece's original triangles. Cut vertices lie on
-// open borders, which the simplifiers lock, so neighbouring nodes meet at the cuts. Textures are
-// cropped to the node's texture-coordinate range and down-sampled by the same factor (side
-// / sqrt(s), at least kMinTextureSide pixels).
+// s_0 = numTri_b / desiredTri); a node with factor s > 1 whose piece holds at least
+// levelFactor * minLeafTri triangles is divided by levelFactor - 1 planes perpendicular to the
+// longest dimension of its piece (equal widths) into levelFactor children, each simplified from
+// the original triangles of its piece with factor s / levelFactor; a slab of fewer than
+// minLeafTri triangles joins its neighbour (so a node may have fewer children). Every other node
+// is a leaf and holds its piece's original triangles. A triangle goes whole to the child its centroid lies in
+// (SlabPartition.h says why), so the leaves hold exactly the input's triangles, and the vertices a
+// piece shares with the rest of the model are locked while simplifying: neighbouring nodes meet
+// on the same chain of input edges at every level. Textures are cropped to the node's
+// texture-coordinate range and down-sampled by the same factor (side / sqrt(s), at least
+// kMinTextureSide pixels).
 //
 // Out of core: blocks are added one at a time; a block's payloads go straight to payload.bin and
 // only the NodeInfo records stay in memory, so memory is bounded by the largest block.
@@ -18,12 +22,10 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
-#include "hlod/builder/PlaneSplit.h"
-#include "hlod/builder/Preprocess.h"
-#include "hlod/builder/SeamVertices.h"
 #include "hlod/builder/Simplifier.h"
 #include "hlod/store/NodeStore.h"
 
@@ -37,15 +39,32 @@ constexpr std::size_t kDefaultMaxBlockTriangles = 200000;
 // about 30 ms and the budget could not be held.
 constexpr std::uint32_t kDefaultDesiredTri = 800;
 constexpr int kMinTextureSide = 8;
+// A piece is divided only when its children would hold this many triangles on average, and each
+// child holds at least this many, so that hierarchies do not end in crumbs: with leaves of ~400 triangles (as when a node's factor alone
+// decided), a GPU pays a draw call per few hundred triangles and the leaves are mostly border.
+constexpr std::uint32_t kDefaultMinLeafTri = 2000;
+// c_tex used when neither --c-tex nor a calibration file gives one.
+constexpr double kDefaultCTex = 0.6;
+
+// An axis-aligned plane p[axis] == value: where a block's ground meets its neighbour's, or where
+// a node's piece was divided.
+struct CutPlane {
+  int axis = 0;
+  double value = 0.0;
+  bool contains(const glm::dvec3& p) const { return p[axis] == value; }
+};
 
 struct BuildOptions {
   int levelFactor = 3;                            // C_levelFactor, >= 2
   std::uint32_t desiredTri = kDefaultDesiredTri;  // C_desiredTri, >= 1
+  std::uint32_t minLeafTri = kDefaultMinLeafTri;  // see kDefaultMinLeafTri, >= 1
   std::string simplifier = "meshopt";             // "meshopt" or "openmesh"
   double cTex = kDefaultCTex;                     // c_tex of eq. 1
   std::size_t maxBlockTriangles = kDefaultMaxBlockTriangles;
   // The store's up axis whatever the input's convention (upAxisOf; a city folder: Z).
   std::optional<UpAxis> up;
+  // Blocks prepared at once (0: one per core). The store is the same for any count.
+  unsigned threads = 0;
 };
 
 // One node of a block's hierarchy, as built in memory (world coordinates, double).
@@ -53,42 +72,35 @@ struct BuildOptions {
 struct BlockNode {
   NodeInfo info;
   Mesh mesh;
-  double simplification = 0.0;    // the node's simplification factor (<= 1 at the leaves)
-  int cutAxis = -1;               // the axis its children were cut along (-1 for a leaf)
+  double simplification = 0.0;    // the node's simplification factor (1 at the leaves)
+  int cutAxis = -1;               // the axis its children were divided along (-1 for a leaf)
   std::vector<double> cutPlanes;  // positions of those planes
-  std::vector<CutPlane> planes;  // the cutting planes that bound its piece (block's and ancestors')
 };
 
-// A block to build: its triangles, the planes it was cut from its neighbours along, and its
-// sides: planes where its ground meets a neighbouring block's (a city block's street middles).
-// The outline there is kept at every level, or coarse levels open cracks between the blocks.
+// A block to build: its triangles, the positions it shares with other blocks cut from the same
+// mesh (locked at every level, so that blocks meet as nodes of one block do), and its sides:
+// planes where its ground meets a neighbouring block's (a city block's street middles). The
+// outline there is kept at every level, or coarse levels open cracks between the blocks.
 struct Block {
   Mesh mesh;
-  std::vector<CutPlane> planes;
+  std::vector<glm::dvec3> seam;
   std::vector<CutPlane> sides;
 };
 
 // Builds the hierarchy of one block in memory (nodes in breadth-first order, the block root first;
 // children contiguous). The block is welded first (weldVertices). An empty block gives no nodes.
-// Vertices on the block's planes and on every cut are locked while simplifying, and the open
-// border on its sides keeps its corners (straight runs between them may lose vertices, as
-// kVertexOnOutline says); afterwards the
-// seam vertices of the block's own cuts and of neighbourSeams are inserted into every node's seam
-// edges (see SeamVertices), so no T-junction remains between any two nodes.
+// The vertices of a piece that the rest of the block, or `seam`, also has are locked while
+// simplifying, and the open border on the block's sides keeps its corners (straight runs between
+// them may lose vertices, as kVertexOnOutline says). The leaves' triangles are the welded block's.
 std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions& options,
                                            const Simplifier& simplifier,
-                                           const std::vector<CutPlane>& blockPlanes = {},
-                                           const SeamVertices* neighbourSeams = nullptr,
-                                           const std::vector<CutPlane>& blockSides = {});
-
-// The seam vertices buildBlockHierarchy would record for this block, found by making the same cuts
-// without simplifying (for blocks that share planes with others).
-SeamVertices planBlockSeams(const Mesh& block, const BuildOptions& options,
-                            const std::vector<CutPlane>& blockPlanes);
+                                           std::span<const glm::dvec3> seam = {},
+                                           std::span<const CutPlane> blockSides = {});
 
 // Cuts a model into blocks: meshes are grouped by material (texture and base colour, so every
-// block has one texture), each group is merged and split in halves along the longest axis of its
-// bounding box (triangles cut at the plane) until each block has at most maxTriangles triangles.
+// block has one texture), each group is welded and halved along the longest axis of its bounding
+// box (each triangle whole to the half its centroid lies in) until each block has at most
+// maxTriangles triangles. Block::seam lists the positions each block shares with the others.
 std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles);
 
 // Crops a texture to the texel rectangle that texCoords (all in [0,1]) use, rewriting texCoords
@@ -108,6 +120,13 @@ struct BuildProgress {
 };
 using BuildProgressFn = std::function<void(const BuildProgress&)>;
 
+// A block's nodes ready for the store: what addBlock computes before it writes anything.
+struct PreparedBlock {
+  std::vector<NodeInfo> nodes;  // parent and firstChild index the block's own nodes
+  std::vector<StoredPayload> payloads;
+  std::uint64_t inputTriangles = 0;
+};
+
 // Streams blocks into a node store at `dir` (written under a temporary name, renamed in finish).
 class HlodBuilder {
  public:
@@ -117,11 +136,14 @@ class HlodBuilder {
   // call the store is Z up (or options.up) with no CRS, as a city folder is.
   void setModelFrame(UpAxis up, const ModelCrs& crs);
   // Builds the block's subtree and appends its payloads; the block can be freed afterwards.
-  // planes: those the block was cut along; neighbourSeams: seam vertices of the blocks sharing
-  // them (planBlockSeams); sides: as Block::sides.
-  Status addBlock(const Mesh& block, const std::vector<CutPlane>& planes = {},
-                  const SeamVertices* neighbourSeams = nullptr,
-                  const std::vector<CutPlane>& sides = {});
+  // seam and sides: as Block's.
+  Status addBlock(const Mesh& block, std::span<const glm::dvec3> seam = {},
+                  std::span<const CutPlane> sides = {});
+  // addBlock in two steps: prepare (thread-safe: any number at once) and commit (one at a time;
+  // blocks enter the store in the order of their commits).
+  PreparedBlock prepareBlock(const Mesh& block, std::span<const glm::dvec3> seam = {},
+                             std::span<const CutPlane> sides = {}) const;
+  Status commitBlock(PreparedBlock&& block);
   // Writes the skeleton and moves the store into place. An Error when no block added a node
   // (nothing to draw): no empty store is written.
   Result<Skeleton> finish(double buildSeconds);

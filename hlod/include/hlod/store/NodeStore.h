@@ -58,6 +58,15 @@ std::vector<std::byte> compressPayload(std::span<const std::byte> raw);
 Result<std::vector<std::byte>> inflatePayload(std::span<const std::byte> stored,
                                               std::uint64_t memoryBytes);
 
+// A payload as payload.bin stores it: the deflated mesh and texture sections (the texture empty
+// without one), and their inflated sizes. Thread-safe: the builder prepares blocks in parallel.
+struct StoredPayload {
+  std::vector<std::byte> mesh, texture;
+  std::uint64_t memoryBytes = 0;   // NodeInfo::memoryBytes
+  std::uint64_t textureBytes = 0;  // NodeInfo::textureBytes
+};
+StoredPayload storePayload(const LocalMesh& mesh);
+
 // skeleton.bin encoding; decoding verifies the checksum, the tree's structure and the build
 // parameters. A decoded skeleton guarantees what the rest of hlodr asserts: children
 // [firstChild, firstChild + childCount) lie after their parent and inside nodes, each child's
@@ -115,8 +124,10 @@ class NodeStoreWriter {
   NodeStoreWriter(const NodeStoreWriter&) = delete;
   NodeStoreWriter& operator=(const NodeStoreWriter&) = delete;
 
-  // Appends a node's payload; fills the node's payloadOffset, payloadSize, payloadChecksum.
+  // Appends a node's payload; fills the node's payloadOffset, payloadSize, payloadChecksum and
+  // its memory and texture sizes. appendPayload(m) is appendStored(storePayload(m)).
   Status appendPayload(const LocalMesh& mesh, NodeInfo& node);
+  Status appendStored(const StoredPayload& payload, NodeInfo& node);
   // Writes skeleton.bin, flushes, and renames the folder to its destination (replacing an
   // existing store there).
   Status finish(const Skeleton& skeleton, StoreFacts facts);

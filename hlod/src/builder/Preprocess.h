@@ -7,9 +7,6 @@
 
 namespace hlod {
 
-// c_tex used when neither --c-tex nor a calibration file gives one.
-constexpr double kDefaultCTex = 0.6;
-
 // Eq. 1: cost_n = numTexTri_n * c_tex + numUnTexTri_n * (1 - c_tex).
 double nodeCost(std::uint64_t numTexTri, std::uint64_t numUnTexTri, double cTex);
 
@@ -33,5 +30,8 @@ glm::vec3 averageNormal(const Mesh& mesh);
 // All of the above for one node's mesh. A mesh is textured when it has a texture and one texture
 // coordinate per vertex; then all its triangles count as textured.
 NodeMeasures measureNode(const Mesh& mesh, double cTex);
+
+// Sum of triangle areas, in double.
+double surfaceArea(const Mesh& mesh);
 
 }  // namespace hlod
