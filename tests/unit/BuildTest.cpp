@@ -93,6 +93,19 @@ std::vector<std::array<PosKey, 3>> triangleSet(const std::vector<const Mesh*>& m
   return out;
 }
 
+// The leaves under node i (its original triangles).
+std::vector<const Mesh*> leavesUnder(const std::vector<BlockNode>& nodes, std::size_t i) {
+  std::vector<const Mesh*> out;
+  std::vector<std::size_t> stack = {i};
+  while (!stack.empty()) {
+    const BlockNode& n = nodes[stack.back()];
+    stack.pop_back();
+    if (n.info.childCount == 0) out.push_back(&n.mesh);
+    for (std::uint32_t c = 0; c < n.info.childCount; ++c) stack.push_back(n.info.firstChild + c);
+  }
+  return out;
+}
+
 std::vector<const Mesh*> leavesOf(const std::vector<BlockNode>& nodes) {
   std::vector<const Mesh*> out;
   for (const BlockNode& n : nodes)
@@ -227,18 +240,6 @@ TEST_P(BuildHierarchy, ChildrenPartitionTheirParentsRegion) {
   o.minLeafTri = 100;
   const auto nodes = buildBlockHierarchy(testmesh::wavyGrid(60), o, **simplifier);
   ASSERT_GT(nodes.size(), 13u);
-  // The leaves under node i.
-  const auto leavesUnder = [&](std::size_t i) {
-    std::vector<const Mesh*> out;
-    std::vector<std::size_t> stack = {i};
-    while (!stack.empty()) {
-      const BlockNode& n = nodes[stack.back()];
-      stack.pop_back();
-      if (n.info.childCount == 0) out.push_back(&n.mesh);
-      for (std::uint32_t c = 0; c < n.info.childCount; ++c) stack.push_back(n.info.firstChild + c);
-    }
-    return out;
-  };
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const BlockNode& n = nodes[i];
     if (n.info.childCount == 0) continue;
@@ -255,7 +256,7 @@ TEST_P(BuildHierarchy, ChildrenPartitionTheirParentsRegion) {
       // Every original triangle under the child has its centroid in one slab, the child's; the
       // children follow the slabs' order.
       std::set<int> slabs;
-      for (const Mesh* leaf : leavesUnder(n.info.firstChild + c))
+      for (const Mesh* leaf : leavesUnder(nodes, n.info.firstChild + c))
         for (std::size_t t = 0; t < leaf->triangleCount(); ++t) {
           const double x = centroid(*leaf, t)[a];
           slabs.insert(int(std::lower_bound(n.cutPlanes.begin(), n.cutPlanes.end(), x) -
@@ -413,13 +414,8 @@ TEST_P(BuildHierarchy, AFewTrianglesFarOutDoNotKeepTheBlockWhole) {
   EXPECT_EQ(nodes[0].info.childCount, 3u);
   for (std::uint32_t c = 0; c < nodes[0].info.childCount; ++c) {
     std::size_t under = 0;
-    std::vector<std::size_t> stack = {nodes[0].info.firstChild + c};
-    while (!stack.empty()) {
-      const BlockNode& n = nodes[stack.back()];
-      stack.pop_back();
-      if (n.info.childCount == 0) under += n.mesh.triangleCount();
-      for (std::uint32_t k = 0; k < n.info.childCount; ++k) stack.push_back(n.info.firstChild + k);
-    }
+    for (const Mesh* leaf : leavesUnder(nodes, nodes[0].info.firstChild + c))
+      under += leaf->triangleCount();
     EXPECT_NEAR(double(under), 7201.0 / 3.0, 60.0) << "child " << c;
   }
 }
@@ -443,16 +439,8 @@ TEST_P(BuildHierarchy, EveryFrontOfAClosedBlockIsWatertight) {
   std::vector<BlockNode> loose = nodes;
   for (std::size_t i = 0; i < loose.size(); ++i) {
     if (loose[i].info.childCount == 0) continue;
-    std::vector<const Mesh*> under;  // the original triangles of node i: its leaves
-    std::vector<std::size_t> stack = {i};
-    while (!stack.empty()) {
-      const BlockNode& n = nodes[stack.back()];
-      stack.pop_back();
-      if (n.info.childCount == 0) under.push_back(&n.mesh);
-      for (std::uint32_t c = 0; c < n.info.childCount; ++c) stack.push_back(n.info.firstChild + c);
-    }
-    Mesh piece;
-    for (const Mesh* m : under) {
+    Mesh piece;  // the original triangles of node i: its leaves
+    for (const Mesh* m : leavesUnder(nodes, i)) {
       const auto base = std::uint32_t(piece.positions.size());
       piece.positions.insert(piece.positions.end(), m->positions.begin(), m->positions.end());
       for (std::uint32_t v : m->indices) piece.indices.push_back(base + v);
