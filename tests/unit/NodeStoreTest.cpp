@@ -356,13 +356,16 @@ TEST(NodeStoreOpen, MissingStoreIsAnError) {
 
 // Blocks are prepared on every core and committed in order: the store does not depend on the
 // thread count (the same payload bytes and node records).
-TEST(NodeStoreParallelBuild, TwoThreadsWriteTheStoreOneThreadWrites) {
-  const fs::path dir = tempDir("parallel");
+class NodeStoreParallelBuild : public testing::TestWithParam<const char*> {};
+
+TEST_P(NodeStoreParallelBuild, TwoThreadsWriteTheStoreOneThreadWrites) {
+  const fs::path dir = tempDir(std::string("parallel-") + GetParam());
   Model model = smallModel();
   model.meshes.push_back(testmesh::sphere(40, 60, 3.0));
   std::vector<Skeleton> built;
   for (unsigned threads : {1u, 2u, 5u}) {
     BuildOptions o;
+    o.simplifier = GetParam();
     o.desiredTri = 100;
     o.minLeafTri = 100;
     o.maxBlockTriangles = 500;
@@ -370,8 +373,7 @@ TEST(NodeStoreParallelBuild, TwoThreadsWriteTheStoreOneThreadWrites) {
     auto s = buildStoreFromModel(model, dir / ("t" + std::to_string(threads)), o);
     ASSERT_TRUE(s) << s.message();
     built.push_back(*s);
-  }
-  ASSERT_GT(built[0].roots.size(), 6u);  // many blocks, so that the workers overlap
+  }  ASSERT_GT(built[0].roots.size(), 6u);  // many blocks, so that the workers overlap
   const auto payload = readFile(dir / "t1" / "payload.bin");
   for (std::size_t k = 1; k < built.size(); ++k) {
     EXPECT_EQ(readFile(dir / ("t" + std::to_string(k == 1 ? 2 : 5)) / "payload.bin"), payload);
@@ -386,3 +388,6 @@ TEST(NodeStoreParallelBuild, TwoThreadsWriteTheStoreOneThreadWrites) {
   }
   fs::remove_all(dir);
 }
+
+INSTANTIATE_TEST_SUITE_P(BothSimplifiers, NodeStoreParallelBuild,
+                         testing::Values("meshopt", "openmesh"));
