@@ -4,7 +4,8 @@
 
 namespace renderer {
 
-hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl, const hlod::LocalMesh& mesh) {
+hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl, const hlod::LocalMesh& mesh,
+                                      std::shared_ptr<const GpuTexture> texture) {
   const std::size_t n = mesh.positions.size();
   if (mesh.normals.size() != n) return hlod::makeError("mesh normals do not match its vertices");
   for (const auto i : mesh.indices)
@@ -49,10 +50,13 @@ hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl, const hlod::LocalMe
   gl.BindVertexArray(0);
   out.gpuBytes_ = interleaved.size() * sizeof(float) + mesh.indices.size() * sizeof(std::uint32_t);
 
-  if (textured) {
+  if (textured && texture) {
+    out.texture_ = std::move(texture);
+  } else if (textured) {
     const hlod::Image& img = *mesh.texture;
-    out.texture_ = GlObject::create(gl, GlKind::Texture);
-    gl.BindTexture(GL_TEXTURE_2D, out.texture_.id());
+    auto t = std::make_shared<GpuTexture>();
+    t->object = GlObject::create(gl, GlKind::Texture);
+    gl.BindTexture(GL_TEXTURE_2D, t->object.id());
     gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
     // Image row 0 is the top and v = 0 is the top (glTF convention): rows go up as they are.
     gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, img.width, img.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
@@ -67,7 +71,8 @@ hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl, const hlod::LocalMe
     // the frame's draw: its cost would land there unannounced. Finished here, it counts as
     // upload time, which the frame's selection already knows about (View::spentMs).
     gl.Finish();
-    out.gpuBytes_ += static_cast<std::uint64_t>(img.width) * img.height * 4 * 4 / 3;
+    t->gpuBytes = static_cast<std::uint64_t>(img.width) * img.height * 4 * 4 / 3;
+    out.texture_ = std::move(t);
   }
   return out;
 }

@@ -16,9 +16,18 @@ void GpuResidency::queue(std::uint32_t node, std::shared_ptr<const hlod::LocalMe
   pending_.emplace_back(node, std::move(mesh));
 }
 
+void GpuResidency::forget(const GpuMesh& mesh) {
+  gpuBytes_ -= mesh.gpuBytes();
+  // The last mesh drawn with a texture takes it off the GPU.
+  if (const auto& t = mesh.gpuTexture(); t && t.use_count() == 1) gpuBytes_ -= t->gpuBytes;
+  if (textures_.size() > 2 * gpu_.size() + 16) std::erase_if(textures_, [](const auto& e) {
+      return e.second.expired();
+    });
+}
+
 void GpuResidency::evict(std::uint32_t node) {
   if (auto it = gpu_.find(node); it != gpu_.end()) {
-    gpuBytes_ -= it->second.gpuBytes();
+    forget(it->second);
     gpu_.erase(it);
   }
   onGpu_.set(node, false);
@@ -43,14 +52,22 @@ hlod::Result<hlod::UploadReport> GpuResidency::upload(double budgetMs, std::uint
       break;
     auto [node, mesh] = std::move(pending_.front());
     pending_.pop_front();
-    auto gpu = GpuMesh::upload(gl_, *mesh);
+    std::shared_ptr<const GpuTexture> shared;
+    if (mesh->texture)
+      if (auto it = textures_.find(mesh->texture); it != textures_.end()) shared = it->second.lock();
+    const bool fresh = !shared;
+    auto gpu = GpuMesh::upload(gl_, *mesh, shared);
     if (!gpu) return hlod::makeError("node " + std::to_string(node) + ": " + gpu.message());
-    if (auto old = gpu_.find(node); old != gpu_.end()) gpuBytes_ -= old->second.gpuBytes();
+    if (fresh && gpu->gpuTexture()) {
+      textures_.insert_or_assign(mesh->texture, gpu->gpuTexture());
+      gpuBytes_ += gpu->gpuTexture()->gpuBytes;
+    }
     gpuBytes_ += gpu->gpuBytes();
+    if (auto old = gpu_.find(node); old != gpu_.end()) forget(old->second);
     gpu_.insert_or_assign(node, std::move(*gpu));
     onGpu_.set(node, true);
     ++report.uploads;
-    report.bytes += uploadBytesOf(*mesh);
+    report.bytes += uploadBytesOf(*mesh) - (fresh || !mesh->texture ? 0 : mesh->texture->pixels.size());
   }
   report.ms = elapsedMs();
   return report;

@@ -30,8 +30,11 @@ void checkGuarantees(const hlod::DecodedSkeleton& d) {
       std::abort();
     for (std::uint32_t c = n.firstChild; c < n.firstChild + n.childCount; ++c)
       if (s.nodes[c].parent != i) std::abort();
-    if (n.payloadOffset + n.payloadSize > d.facts.payloadBytes ||
-        n.payloadOffset + n.payloadSize < n.payloadOffset)
+    // Both sections inside payload.bin (the texture may be another node's, shared).
+    const std::uint64_t file = d.facts.payloadBytes;
+    if (n.textureSize > n.payloadSize || n.payloadOffset > file ||
+        n.meshSize() > file - n.payloadOffset || n.textureOffset > file ||
+        n.textureSize > file - n.textureOffset)
       std::abort();
     if (!std::isfinite(n.cost) || !std::isfinite(n.staticBenefit) || !std::isfinite(n.centre.x))
       std::abort();

@@ -10,6 +10,7 @@
 #include "hlod/import/Import.h"
 #include "renderer/FrameView.h"
 #include "renderer/GpuMesh.h"
+#include "renderer/GpuResidency.h"
 
 using namespace gltest;
 using renderer::Backend;
@@ -281,4 +282,38 @@ TEST(Renderer, TwoThreadsWithAContextEachRenderTheSameFrame) {
   ASSERT_TRUE(ok[0] && ok[1]);
   const auto d = compare(images[0], images[1]);
   EXPECT_EQ(d.maxAbs, 0);
+}
+
+// Nodes of one level that share a texture (one image from the loader) share its GPU copy: it is
+// uploaded once, counted once, and leaves the GPU with the last node drawn with it.
+TEST(GpuResidency, NodesSharingAnImageShareItsTextureOnTheGpu) {
+  auto ctx = contextOrSkip(Backend::Auto);
+  ASSERT_TRUE(ctx) << "no GL context";
+  auto a = box({0, 0, 0}, {1, 1, 1}, {1, 1, 1, 1});
+  a.texture = checker();
+  auto b = a;  // the same image
+  auto c = a;
+  c.texture = checker();  // equal pixels, another image
+  renderer::GpuResidency residency(ctx->gl(), 3);
+  residency.queue(0, std::make_shared<const hlod::LocalMesh>(hlod::toLocal(a)));
+  residency.queue(1, std::make_shared<const hlod::LocalMesh>(hlod::toLocal(b)));
+  residency.queue(2, std::make_shared<const hlod::LocalMesh>(hlod::toLocal(c)));
+  auto report = residency.upload(1e9, 0);
+  ASSERT_TRUE(report) << report.message();
+  ASSERT_EQ(report->uploads, 3u);
+  const renderer::GpuMesh *g0 = residency.find(0), *g1 = residency.find(1), *g2 = residency.find(2);
+  ASSERT_TRUE(g0 && g1 && g2);
+  EXPECT_NE(g0->texture(), 0u);
+  EXPECT_EQ(g0->texture(), g1->texture());
+  EXPECT_NE(g0->texture(), g2->texture());
+  const std::uint64_t buffers = g0->gpuBytes(), texture = g0->gpuTexture()->gpuBytes;
+  EXPECT_GT(texture, 0u);
+  EXPECT_EQ(residency.gpuBytes(), 3 * buffers + 2 * texture);
+  // Moved once: the second node's upload did not send the pixels again.
+  const std::uint64_t pixels = a.texture->pixels.size();
+  EXPECT_EQ(report->bytes, 3 * renderer::uploadBytesOf(hlod::toLocal(a)) - pixels);
+  residency.evict(0);
+  EXPECT_EQ(residency.gpuBytes(), 2 * buffers + 2 * texture);  // node 1 still draws with it
+  residency.evict(1);
+  EXPECT_EQ(residency.gpuBytes(), buffers + texture);
 }

@@ -391,3 +391,72 @@ TEST_P(NodeStoreParallelBuild, TwoThreadsWriteTheStoreOneThreadWrites) {
 
 INSTANTIATE_TEST_SUITE_P(BothSimplifiers, NodeStoreParallelBuild,
                          testing::Values("meshopt", "openmesh"));
+
+// An atlas every node uses all over: the nodes of a level store one texture between them (the
+// union of their crops, at the level's resolution), and a loader decodes it once, hands the
+// nodes one image and counts it once against its cap.
+TEST(NodeStoreSharedTexture, NodesOfALevelStoreOneTextureAndTheLoaderHoldsItOnce) {
+  const fs::path dir = tempDir("shared-texture");
+  Mesh grid = testmesh::wavyGrid(60);  // 7,200 triangles
+  for (std::size_t v = 0; v < grid.positions.size(); ++v) {
+    const glm::dvec3& p = grid.positions[v];
+    grid.texCoords[v] = {float(std::fmod(p.x * 7.3, 1.0)), float(std::fmod(p.y * 5.1, 1.0))};
+  }
+  grid.texture = testmesh::checkerTexture(64, 64);
+  Model model;
+  model.meshes.push_back(grid);
+  BuildOptions o;
+  o.desiredTri = 100;
+  o.minLeafTri = 300;
+  auto built = buildStoreFromModel(model, dir / "s.hlod", o);
+  ASSERT_TRUE(built) << built.message();
+  const Skeleton& sk = *built;
+  // Per level and resolution (leaves apart): its distinct texture sections.
+  std::map<std::pair<std::uint32_t, bool>, std::map<std::uint64_t, std::uint64_t>> sections;
+  std::uint64_t meshes = 0;
+  for (std::uint32_t i = 0; i < sk.nodes.size(); ++i) {
+    const NodeInfo& n = sk.nodes[i];
+    ASSERT_GT(n.textureSize, 0u) << "node " << i;
+    sections[{n.level, sk.isLeaf(i)}][n.textureOffset] = n.textureBytes;
+    meshes += n.memoryBytes - n.textureBytes;
+  }
+  std::uint64_t textures = 0;
+  for (const auto& [key, offsets] : sections) {
+    EXPECT_EQ(offsets.size(), 1u) << "level " << key.first << (key.second ? " leaves" : "");
+    for (const auto& [offset, bytes] : offsets) {
+      textures += bytes;
+      EXPECT_LE(bytes, 64u * 64u * 4u);  // at most the input texture, whole
+    }
+  }
+  const std::uint32_t leaf = sk.nodes[sk.nodes[0].firstChild].firstChild;
+  ASSERT_TRUE(sk.isLeaf(leaf) && sk.isLeaf(leaf + 1));
+  EXPECT_EQ(sk.nodes[leaf].textureOffset, sk.nodes[leaf + 1].textureOffset);
+  EXPECT_EQ(sk.nodes[leaf].textureBytes, 64u * 64u * 4u);  // full detail at the leaves
+  auto store = NodeStore::open(dir / "s.hlod");
+  ASSERT_TRUE(store) << store.message();
+  auto m0 = (*store)->loadNode(leaf), m1 = (*store)->loadNode(leaf + 1);
+  ASSERT_TRUE(m0 && m1);
+  ASSERT_TRUE(m0->texture && m1->texture);
+  EXPECT_EQ(m0->texture->pixels, m1->texture->pixels);
+  EXPECT_EQ(m0->texture->pixels, grid.texture->pixels);
+
+  // Everything loaded under a cap of exactly its meshes and each texture once.
+  std::vector<LoadRequest> all;
+  for (std::uint32_t i = 0; i < sk.nodes.size(); ++i) all.push_back({i, 1.0 + sk.nodes[i].level});
+  LoaderParams p;
+  p.capBytes = meshes + textures;
+  Loader loader(**store, p);
+  ASSERT_TRUE(loader.loadRoots());
+  loader.setWanted(all);
+  while (loader.step()) {
+  }
+  for (std::uint32_t i = 0; i < sk.nodes.size(); ++i) ASSERT_TRUE(loader.isResident(i)) << i;
+  EXPECT_EQ(loader.counters().residentBytes, meshes + textures);
+  EXPECT_EQ(loader.residentPayload(leaf)->texture.get(),
+            loader.residentPayload(leaf + 1)->texture.get());
+  // A node whose texture was held already read only its mesh section.
+  std::uint64_t payloads = 0;
+  for (const NodeInfo& n : sk.nodes) payloads += n.payloadSize;
+  EXPECT_LT(loader.counters().bytesRead, payloads);
+  fs::remove_all(dir);
+}

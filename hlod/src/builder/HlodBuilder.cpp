@@ -345,11 +345,8 @@ Image resizeImage(const Image& image, int width, int height) {
   return out;
 }
 
-std::shared_ptr<const Image> prepareNodeTexture(const Image& texture,
-                                                std::vector<glm::vec2>& texCoords, double factor) {
-  if (texture.empty() || texture.pixels.size() != std::size_t(texture.width) * texture.height * 4)
-    return nullptr;
-  int x0 = 0, y0 = 0, x1 = texture.width, y1 = texture.height;
+TexelRect usedTexels(const Image& texture, std::span<const glm::vec2> texCoords) {
+  TexelRect r{0, 0, texture.width, texture.height};
   glm::vec2 lo(1.0f), hi(0.0f);
   bool inUnit = !texCoords.empty();
   for (const auto& t : texCoords) {
@@ -357,22 +354,33 @@ std::shared_ptr<const Image> prepareNodeTexture(const Image& texture,
     lo = glm::min(lo, t);
     hi = glm::max(hi, t);
   }
-  if (inUnit) {
-    // One texel of margin keeps bilinear filtering at the crop's edge on the right texels.
-    x0 = std::max(0, int(std::floor(lo.x * texture.width)) - 1);
-    y0 = std::max(0, int(std::floor(lo.y * texture.height)) - 1);
-    x1 = std::min(texture.width, int(std::ceil(hi.x * texture.width)) + 1);
-    y1 = std::min(texture.height, int(std::ceil(hi.y * texture.height)) + 1);
-    if (x1 <= x0 || y1 <= y0) x0 = 0, y0 = 0, x1 = texture.width, y1 = texture.height;
+  if (!inUnit) return r;
+  // One texel of margin keeps bilinear filtering at the crop's edge on the right texels.
+  TexelRect c{std::max(0, int(std::floor(lo.x * texture.width)) - 1),
+              std::max(0, int(std::floor(lo.y * texture.height)) - 1),
+              std::min(texture.width, int(std::ceil(hi.x * texture.width)) + 1),
+              std::min(texture.height, int(std::ceil(hi.y * texture.height)) + 1)};
+  return c.x1 <= c.x0 || c.y1 <= c.y0 ? r : c;
+}
+
+namespace {
+
+// Texture coordinates of the whole texture to those of its rect.
+void remapToRect(const Image& texture, const TexelRect& rect, std::vector<glm::vec2>& texCoords) {
+  const int cw = rect.x1 - rect.x0, ch = rect.y1 - rect.y0;
+  if (cw == texture.width && ch == texture.height) return;
+  for (auto& t : texCoords) {
+    t.x = (t.x * float(texture.width) - float(rect.x0)) / float(cw);
+    t.y = (t.y * float(texture.height) - float(rect.y0)) / float(ch);
   }
-  const int cw = x1 - x0, ch = y1 - y0;
+}
+
+// The rect of texture, box-filtered to about 1/sqrt(factor) of its side (at least
+// kMinTextureSide pixels, never enlarged).
+std::shared_ptr<const Image> cropImage(const Image& texture, const TexelRect& rect,
+                                       double factor) {
+  const int cw = rect.x1 - rect.x0, ch = rect.y1 - rect.y0;
   const bool cropped = cw != texture.width || ch != texture.height;
-  if (cropped) {
-    for (auto& t : texCoords) {
-      t.x = (t.x * float(texture.width) - float(x0)) / float(cw);
-      t.y = (t.y * float(texture.height) - float(y0)) / float(ch);
-    }
-  }
   const double scale = factor > 1.0 ? 1.0 / std::sqrt(factor) : 1.0;
   const int w = std::min(cw, std::max(std::min(cw, kMinTextureSide), int(std::lround(cw * scale))));
   const int h = std::min(ch, std::max(std::min(ch, kMinTextureSide), int(std::lround(ch * scale))));
@@ -382,10 +390,21 @@ std::shared_ptr<const Image> prepareNodeTexture(const Image& texture,
   crop.height = ch;
   crop.pixels.resize(std::size_t(cw) * ch * 4);
   for (int y = 0; y < ch; ++y)
-    std::copy_n(texture.pixels.begin() + (std::size_t(y + y0) * texture.width + x0) * 4,
+    std::copy_n(texture.pixels.begin() + (std::size_t(y + rect.y0) * texture.width + rect.x0) * 4,
                 std::size_t(cw) * 4, crop.pixels.begin() + std::size_t(y) * cw * 4);
   if (w == cw && h == ch) return std::make_shared<Image>(std::move(crop));
   return std::make_shared<Image>(resizeImage(crop, w, h));
+}
+
+}  // namespace
+
+std::shared_ptr<const Image> prepareNodeTexture(const Image& texture,
+                                                std::vector<glm::vec2>& texCoords, double factor) {
+  if (texture.empty() || texture.pixels.size() != std::size_t(texture.width) * texture.height * 4)
+    return nullptr;
+  const TexelRect rect = usedTexels(texture, texCoords);
+  remapToRect(texture, rect, texCoords);
+  return cropImage(texture, rect, factor);
 }
 
 Result<std::unique_ptr<HlodBuilder>> HlodBuilder::create(const std::filesystem::path& dir,
@@ -426,7 +445,12 @@ PreparedBlock HlodBuilder::prepareBlock(const Mesh& block, std::span<const glm::
   PreparedBlock out;
   out.inputTriangles = block.triangleCount();
   std::vector<BlockNode> local = buildBlockHierarchy(block, options_, *simplifier_, seam, sides);
-  for (BlockNode& n : local) {
+  std::vector<LocalMesh> meshes(local.size());
+  // Texture groups: the nodes of one level drawn at one resolution (inner nodes at the level's
+  // factor, leaves at full detail), in node order.
+  std::map<std::pair<std::uint32_t, bool>, std::vector<std::size_t>> groups;
+  for (std::size_t k = 0; k < local.size(); ++k) {
+    BlockNode& n = local[k];
     NodeInfo info = n.info;
     const NodeMeasures m = measureNode(n.mesh, options_.cTex);
     info.numTri = m.numTri;
@@ -434,17 +458,53 @@ PreparedBlock HlodBuilder::prepareBlock(const Mesh& block, std::span<const glm::
     info.cost = m.cost;
     info.staticBenefit = m.staticBenefit;
     info.avgNormal = m.avgNormal;
-    LocalMesh lm = toLocal(n.mesh);
+    LocalMesh& lm = meshes[k];
+    lm = toLocal(n.mesh);
     lm.centre = info.centre;  // the piece's centre, so that node centres nest
     for (std::size_t v = 0; v < n.mesh.positions.size(); ++v)
       lm.positions[v] = glm::vec3(n.mesh.positions[v] - info.centre);
-    if (n.mesh.texture && lm.texCoords.size() == lm.positions.size())
-      lm.texture = prepareNodeTexture(*n.mesh.texture, lm.texCoords, n.simplification);
-    else
-      lm.texture = nullptr;
-    n.mesh = Mesh{};
-    out.payloads.push_back(storePayload(lm));
+    lm.texture = nullptr;
+    const Image* texture = n.mesh.texture.get();
+    if (texture && !texture->empty() &&
+        texture->pixels.size() == std::size_t(texture->width) * texture->height * 4 &&
+        lm.texCoords.size() == lm.positions.size())
+      groups[{info.level, info.childCount == 0}].push_back(k);
+    n.mesh.positions = {};
+    n.mesh.indices = {};
     out.nodes.push_back(info);
+  }
+  // A group whose crops overlap (an atlas whose every part each node uses) stores one texture,
+  // their union, in its first node; the others share it. Otherwise each node keeps its crop:
+  // either way a level's texture bytes stay within kSharedTextureOverlap of its texture's.
+  out.textureOwner.assign(local.size(), kNoNode);
+  for (const auto& [key, members] : groups) {
+    const Image& texture = *local[members.front()].mesh.texture;
+    const double factor = local[members.front()].simplification;
+    TexelRect all{texture.width, texture.height, 0, 0};
+    double sum = 0.0;
+    for (std::size_t k : members) {
+      const TexelRect r = usedTexels(texture, meshes[k].texCoords);
+      sum += r.area();
+      all = {std::min(all.x0, r.x0), std::min(all.y0, r.y0), std::max(all.x1, r.x1),
+             std::max(all.y1, r.y1)};
+    }
+    if (members.size() < 2 || sum <= kSharedTextureOverlap * all.area()) {
+      for (std::size_t k : members)
+        meshes[k].texture = prepareNodeTexture(texture, meshes[k].texCoords, factor);
+      continue;
+    }
+    meshes[members.front()].texture = cropImage(texture, all, factor);
+    for (std::size_t k : members) {
+      remapToRect(texture, all, meshes[k].texCoords);
+      if (k == members.front()) continue;
+      meshes[k].texture = meshes[members.front()].texture;
+      out.textureOwner[k] = std::uint32_t(members.front());
+    }
+  }
+  for (std::size_t k = 0; k < local.size(); ++k) {
+    local[k].mesh = Mesh{};
+    out.payloads.push_back(storePayload(meshes[k], out.textureOwner[k] == kNoNode));
+    meshes[k] = LocalMesh{};
   }
   return out;
 }
@@ -460,7 +520,12 @@ Status HlodBuilder::commitBlock(PreparedBlock&& block) {
     if (info.parent != kNoNode) info.parent += base;
     if (info.childCount > 0) info.firstChild += base;
     info.block = blockCount_;
-    if (auto s = writer_->appendStored(block.payloads[k], info); !s) return s;
+    const std::uint32_t owner = block.textureOwner[k];
+    if (auto s = owner == kNoNode ? writer_->appendStored(block.payloads[k], info)
+                                  : writer_->appendSharingTexture(
+                                        block.payloads[k], skeleton_.nodes[base + owner], info);
+        !s)
+      return s;
     block.payloads[k] = {};
     skeleton_.nodes.push_back(info);
   }

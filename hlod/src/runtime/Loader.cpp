@@ -37,6 +37,37 @@ std::uint64_t Loader::memoryOf(std::uint32_t node) const {
   return params_.textures ? n.memoryBytes : n.memoryBytes - n.textureBytes;
 }
 
+bool Loader::hasTexture(std::uint32_t node) const {
+  return params_.textures && skeleton_.nodes[node].textureSize > 0;
+}
+
+bool Loader::textureHeldLocked(std::uint32_t node) const {
+  return hasTexture(node) && textures_.count(skeleton_.nodes[node].textureOffset) > 0;
+}
+
+std::uint64_t Loader::chargeLocked(std::uint32_t node) const {
+  const NodeInfo& n = skeleton_.nodes[node];
+  return textureHeldLocked(node) ? n.memoryBytes - n.textureBytes : memoryOf(node);
+}
+
+std::uint64_t Loader::holdTextureLocked(std::uint32_t node,
+                                        const std::shared_ptr<const Image>& image) {
+  const NodeInfo& n = skeleton_.nodes[node];
+  auto [it, fresh] = textures_.try_emplace(n.textureOffset);
+  if (fresh) it->second.image = image;
+  ++it->second.users;
+  return fresh ? n.textureBytes : 0;
+}
+
+void Loader::releaseTextureLocked(std::uint32_t node) {
+  const NodeInfo& n = skeleton_.nodes[node];
+  auto it = textures_.find(n.textureOffset);
+  assert(it != textures_.end() && it->second.users > 0);
+  if (--it->second.users > 0) return;
+  textures_.erase(it);
+  counters_.residentBytes -= n.textureBytes;
+}
+
 template <class Loadable>
 void Loader::issueAheadLocked(std::uint32_t chosen, Loadable&& loadable) {
   if (!(params_.ioLatencyMs > 0.0)) return;
@@ -219,8 +250,9 @@ bool Loader::hasResidentChildLocked(std::uint32_t node) const {
 void Loader::dropPartialLocked(std::uint32_t node) {
   auto it = partials_.find(node);
   if (it == partials_.end()) return;
-  counters_.inFlightBytes -= memoryOf(node);
+  counters_.inFlightBytes -= it->second->reserved;
   if (it->second->cacheReserved) params_.cache->release(memoryOf(node));
+  if (it->second->textureHeld) releaseTextureLocked(node);
   partials_.erase(it);
   if (current_ == node) current_ = kNoNode;
 }
@@ -229,7 +261,8 @@ void Loader::unloadLocked(std::uint32_t node) {
   const NodeInfo& n = skeleton_.nodes[node];
   resident_[node].reset();
   residentFlag_[node].store(false);
-  counters_.residentBytes -= memoryOf(node);
+  counters_.residentBytes -= hasTexture(node) ? n.memoryBytes - n.textureBytes : memoryOf(node);
+  if (hasTexture(node)) releaseTextureLocked(node);
   counters_.residentCost -= n.cost;
   --counters_.residentNodes;
   ++counters_.unloads;
@@ -242,7 +275,7 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
   const bool capOn = params_.capBytes > 0;
   const bool costOn = params_.c_memory > 0.0;
   // Once decoded the node holds memoryBytes (more than its compressed read buffer).
-  std::uint64_t bytes = counters_.residentBytes + counters_.inFlightBytes + memoryOf(node);
+  std::uint64_t bytes = counters_.residentBytes + counters_.inFlightBytes + chargeLocked(node);
   double cost = counters_.residentCost + info.cost;
   auto fits = [&] {
     return (!capOn || bytes <= params_.capBytes) &&
@@ -319,8 +352,13 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
       if (c != n && resident_[c]) p = std::max(p, below_[c]);
     return p;
   };
+  // A node holding the texture the node will share stays: the node's charge counts on it.
+  const bool shares = textureHeldLocked(node);
+  auto sharesTexture = [&](std::uint32_t n) {
+    return shares && hasTexture(n) && skeleton_.nodes[n].textureOffset == info.textureOffset;
+  };
   for (std::uint32_t n = 0; n < resident_.size(); ++n) {
-    if (!resident_[n] || !evictable(n) || hasResidentChildLocked(n)) continue;
+    if (!resident_[n] || !evictable(n) || hasResidentChildLocked(n) || sharesTexture(n)) continue;
     const double p = worth(n);
     if (p < priority) offer({true, p, skeleton_.nodes[n].level, n});
   }
@@ -329,6 +367,7 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
   // whole: taking only the nodes without resident children, a node larger than those never
   // loaded while the cache stayed full of unwanted ancestors.
   std::unordered_map<std::uint32_t, std::uint32_t> childrenLeft;
+  std::unordered_map<std::uint64_t, std::uint32_t> texturesLeft;  // holders the dry run leaves
   std::vector<Victim> taken;
   while (!fits() && !heap.empty()) {
     std::pop_heap(heap.begin(), heap.end(), less);
@@ -336,8 +375,20 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
     heap.pop_back();
     taken.push_back(v);
     const NodeInfo& vn = skeleton_.nodes[v.node];
-    bytes -= memoryOf(v.node);
-    if (!v.resident) continue;
+    // What evicting it frees: its reservation, or its decoded mesh and, once the dry run has
+    // taken every holder of its texture, that texture.
+    if (!v.resident) {
+      bytes -= partials_.at(v.node)->reserved;
+      continue;
+    }
+    if (hasTexture(v.node)) {
+      bytes -= vn.memoryBytes - vn.textureBytes;
+      auto [left, fresh] = texturesLeft.try_emplace(vn.textureOffset, 0u);
+      if (fresh) left->second = textures_.at(vn.textureOffset).users;
+      if (--left->second == 0) bytes -= vn.textureBytes;
+    } else {
+      bytes -= memoryOf(v.node);
+    }
     cost -= vn.cost;
     const std::uint32_t q = vn.parent;
     if (q == kNoNode || !evictable(q)) continue;
@@ -347,7 +398,7 @@ bool Loader::makeRoomLocked(std::uint32_t node, double priority) {
       for (std::uint32_t c = qn.firstChild; c < qn.firstChild + qn.childCount; ++c)
         left->second += resident_[c] ? 1u : 0u;
     }
-    if (--left->second == 0) {
+    if (--left->second == 0 && !sharesTexture(q)) {
       const double p = worth(q);
       if (p < priority) offer({true, p, skeleton_.nodes[q].level, q});
     }
@@ -481,16 +532,19 @@ bool Loader::step() {
       }
     }
     current_ = node;
-    size = readSizeOf(node);
     if (it == partials_.end()) {
       auto fresh = std::make_unique<Partial>();
+      // A texture held already (shared with a resident node) is neither read nor counted again.
+      fresh->textureHeld = textureHeldLocked(node);
+      const std::uint64_t readSize =
+          fresh->textureHeld ? skeleton_.nodes[node].meshSize() : readSizeOf(node);
       // The error boundary of the loading thread: a node too large to allocate (a forged
       // skeleton) fails alone instead of ending the process.
       try {
-        fresh->bytes.resize(size);
+        fresh->bytes.resize(readSize);
       } catch (const std::bad_alloc&) {
         current_ = kNoNode;
-        failLocked(node, "cannot allocate " + std::to_string(size) + " bytes");
+        failLocked(node, "cannot allocate " + std::to_string(readSize) + " bytes");
         return true;
       }
       if (params_.cache) {
@@ -503,9 +557,11 @@ bool Loader::step() {
         }
         fresh->cacheReserved = true;
       }
-      it = partials_.emplace(node, std::move(fresh)).first;
       // Reserve what the node will hold decoded, so that finishing it cannot pass the cap.
-      counters_.inFlightBytes += memoryOf(node);
+      fresh->reserved = chargeLocked(node);
+      if (fresh->textureHeld) holdTextureLocked(node, nullptr);
+      it = partials_.emplace(node, std::move(fresh)).first;
+      counters_.inFlightBytes += it->second->reserved;
       counters_.peakBytes =
           std::max(counters_.peakBytes, counters_.residentBytes + counters_.inFlightBytes);
       ++counters_.loadsStarted;
@@ -525,6 +581,7 @@ bool Loader::step() {
       }
     }
     part = it->second.get();
+    size = part->bytes.size();
     offset = part->filled;
     len = static_cast<std::size_t>(std::min<std::uint64_t>(params_.chunkBytes, size - offset));
   }
@@ -576,6 +633,14 @@ void Loader::finishLocked(std::uint32_t node, Result<LocalMesh> mesh) {
   const auto part = partials_.find(node);
   const bool reserved = part != partials_.end() && part->second->cacheReserved;
   if (reserved && mesh) part->second->cacheReserved = false;
+  // A shared texture held already replaces the node's own copy (or stands in for the texture
+  // section it did not read); it stays held from here until the node holds it itself.
+  const bool pin = mesh && hasTexture(node);
+  if (pin) {
+    if (auto t = textures_.find(skeleton_.nodes[node].textureOffset); t != textures_.end())
+      mesh->texture = t->second.image;
+    counters_.residentBytes += holdTextureLocked(node, mesh->texture);
+  }
   dropPartialLocked(node);
   if (current_ == node) current_ = kNoNode;
   orderDirty_ = true;
@@ -588,6 +653,7 @@ void Loader::finishLocked(std::uint32_t node, Result<LocalMesh> mesh) {
   adoptLocked(node, params_.cache ? params_.cache->insert(NodeCache::key(params_.cacheStore, node),
                                                           std::move(mesh).value(), bytes)
                                   : std::make_shared<const LocalMesh>(std::move(mesh).value()));
+  if (pin) releaseTextureLocked(node);
 }
 
 void Loader::adoptLocked(std::uint32_t node, std::shared_ptr<const LocalMesh> shared) {
@@ -595,7 +661,9 @@ void Loader::adoptLocked(std::uint32_t node, std::shared_ptr<const LocalMesh> sh
   const NodeInfo& n = skeleton_.nodes[node];
   resident_[node] = shared;
   residentFlag_[node].store(true);
-  counters_.residentBytes += memoryOf(node);
+  counters_.residentBytes += hasTexture(node) ? n.memoryBytes - n.textureBytes +
+                                                    holdTextureLocked(node, shared->texture)
+                                              : memoryOf(node);
   lastFinished_ = node;
   counters_.residentCost += n.cost;
   ++counters_.residentNodes;

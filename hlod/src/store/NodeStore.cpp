@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cassert>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -58,15 +59,24 @@ Status NodeStore::readPayloadChunk(std::uint32_t node, std::uint64_t offset,
   const NodeInfo& n = skeleton_.nodes[node];
   if (offset > n.payloadSize || out.size() > n.payloadSize - offset)
     return makeError("read outside the payload of node " + std::to_string(node));
-  std::size_t done = 0;
-  while (done < out.size()) {
-    const ssize_t got =
-        ::pread(fd_, out.data() + done, out.size() - done, off_t(n.payloadOffset + offset + done));
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) return makeError(std::string("reading payload.bin: ") + std::strerror(errno));
-    if (got == 0) return makeError("payload.bin is shorter than the skeleton says (truncated)");
-    done += std::size_t(got);
-  }
+  // The payload's bytes are the mesh section, then the texture section wherever it lies.
+  const auto readAt = [&](std::span<std::byte> into, std::uint64_t at) -> Status {
+    std::size_t done = 0;
+    while (done < into.size()) {
+      const ssize_t got = ::pread(fd_, into.data() + done, into.size() - done, off_t(at + done));
+      if (got < 0 && errno == EINTR) continue;
+      if (got < 0) return makeError(std::string("reading payload.bin: ") + std::strerror(errno));
+      if (got == 0) return makeError("payload.bin is shorter than the skeleton says (truncated)");
+      done += std::size_t(got);
+    }
+    return Ok{};
+  };
+  const std::uint64_t mesh = n.meshSize();
+  const std::size_t inMesh = offset < mesh ? std::size_t(std::min<std::uint64_t>(out.size(), mesh - offset)) : 0;
+  if (inMesh > 0)
+    if (auto s = readAt(out.first(inMesh), n.payloadOffset + offset); !s) return s;
+  if (inMesh < out.size())
+    return readAt(out.subspan(inMesh), n.textureOffset + (offset + inMesh - mesh));
   return Ok{};
 }
 
@@ -172,7 +182,7 @@ NodeStoreWriter::~NodeStoreWriter() {
   }
 }
 
-StoredPayload storePayload(const LocalMesh& mesh) {
+StoredPayload storePayload(const LocalMesh& mesh, bool withTexture) {
   const std::vector<std::byte> raw = encodePayload(mesh);
   // The pixels end the payload (see the format): they become a section of their own, so that
   // a scene without textures reads, inflates and keeps none of them.
@@ -183,7 +193,7 @@ StoredPayload storePayload(const LocalMesh& mesh) {
   const std::span<const std::byte> all(raw);
   StoredPayload p;
   p.mesh = compressPayload(all.first(raw.size() - pixelBytes));
-  if (pixelBytes) p.texture = compressPayload(all.last(pixelBytes));
+  if (pixelBytes && withTexture) p.texture = compressPayload(all.last(pixelBytes));
   p.memoryBytes = raw.size();
   p.textureBytes = pixelBytes;
   return p;
@@ -194,6 +204,7 @@ Status NodeStoreWriter::appendPayload(const LocalMesh& mesh, NodeInfo& node) {
 }
 
 Status NodeStoreWriter::appendStored(const StoredPayload& payload, NodeInfo& node) {
+  assert(payload.textureBytes == 0 || !payload.texture.empty());
   for (const auto* section : {&payload.mesh, &payload.texture})
     if (std::fwrite(section->data(), 1, section->size(), payload_) != section->size())
       return makeError("cannot write payload.bin (disk full?)");
@@ -201,10 +212,29 @@ Status NodeStoreWriter::appendStored(const StoredPayload& payload, NodeInfo& nod
   node.payloadSize = payload.mesh.size() + payload.texture.size();
   node.payloadChecksum = crc32(payload.mesh);
   node.memoryBytes = payload.memoryBytes;
+  node.textureOffset = payload.texture.empty() ? 0 : payloadBytes_ + payload.mesh.size();
   node.textureSize = payload.texture.size();
   node.textureChecksum = payload.textureBytes ? crc32(payload.texture) : 0;
   node.textureBytes = payload.textureBytes;
   payloadBytes_ += node.payloadSize;
+  return Ok{};
+}
+
+Status NodeStoreWriter::appendSharingTexture(const StoredPayload& payload, const NodeInfo& owner,
+                                             NodeInfo& node) {
+  assert(payload.texture.empty() && payload.textureBytes == owner.textureBytes &&
+         owner.textureSize > 0);
+  if (std::fwrite(payload.mesh.data(), 1, payload.mesh.size(), payload_) != payload.mesh.size())
+    return makeError("cannot write payload.bin (disk full?)");
+  node.payloadOffset = payloadBytes_;
+  node.payloadSize = payload.mesh.size() + owner.textureSize;
+  node.payloadChecksum = crc32(payload.mesh);
+  node.memoryBytes = payload.memoryBytes;
+  node.textureOffset = owner.textureOffset;
+  node.textureSize = owner.textureSize;
+  node.textureChecksum = owner.textureChecksum;
+  node.textureBytes = owner.textureBytes;
+  payloadBytes_ += payload.mesh.size();
   return Ok{};
 }
 

@@ -57,6 +57,7 @@ void putNode(store::ByteWriter& w, const NodeInfo& n) {
   w.put(n.payloadSize);
   w.put(n.payloadChecksum);
   w.put(n.memoryBytes);
+  w.put(n.textureOffset);
   w.put(n.textureSize);
   w.put(n.textureChecksum);
   w.put(n.textureBytes);
@@ -68,11 +69,11 @@ bool getNode(store::ByteReader& r, NodeInfo& n) {
          r.get(n.numTri) && r.get(n.numTexTri) && r.get(n.cost) && r.get(n.staticBenefit) &&
          r.get(n.avgNormal) && r.get(n.geometricError) && r.get(n.payloadOffset) &&
          r.get(n.payloadSize) && r.get(n.payloadChecksum) && r.get(n.memoryBytes) &&
-         r.get(n.textureSize) && r.get(n.textureChecksum) && r.get(n.textureBytes);
+         r.get(n.textureOffset) && r.get(n.textureSize) && r.get(n.textureChecksum) && r.get(n.textureBytes);
 }
 
 constexpr std::size_t kNodeRecordSize =
-    5 * 4 + 9 * 8 + 2 * 4 + 2 * 8 + 3 * 4 + 8 + 2 * 8 + 4 + 8 + 8 + 4 + 8;
+    5 * 4 + 9 * 8 + 2 * 4 + 2 * 8 + 3 * 4 + 8 + 2 * 8 + 4 + 8 + 8 + 8 + 4 + 8;
 
 bool finite3(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -201,13 +202,16 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
         if (s.nodes[c].parent != i)
           return bad("child of node " + std::to_string(i) + " disowns it");
     }
-    if (n.payloadOffset > out.facts.payloadBytes ||
-        n.payloadSize > out.facts.payloadBytes - n.payloadOffset)
+    // Both sections inside payload.bin (the texture one may be another node's: shared).
+    const std::uint64_t file = out.facts.payloadBytes;
+    if (n.textureSize > n.payloadSize || n.payloadOffset > file ||
+        n.meshSize() > file - n.payloadOffset || n.textureOffset > file ||
+        n.textureSize > file - n.textureOffset || (n.textureSize == 0 && n.textureOffset != 0))
       return bad("node " + std::to_string(i) + " payload lies outside payload.bin");
     // DEFLATE expands at most 1032:1; a larger claim would only make a load allocate wildly.
     if (n.memoryBytes > 1032 * n.payloadSize + 1024)
       return bad("node " + std::to_string(i) + " claims an impossible decoded size");
-    // The texture section is the payload's tail, decoding to the tail of the decoded bytes.
+    // The texture section decodes to the tail of the decoded bytes.
     if ((n.textureSize > 0 && n.textureSize >= n.payloadSize) ||
         (n.textureBytes > 0 && n.textureBytes >= n.memoryBytes) ||
         (n.textureSize == 0) != (n.textureBytes == 0) ||

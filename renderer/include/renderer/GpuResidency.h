@@ -5,6 +5,7 @@
 // its GL work (GpuMesh::upload finishes it), so the time is the upload's whole cost.
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <memory>
 #include <unordered_map>
 #include <utility>
@@ -38,10 +39,16 @@ class GpuResidency {
   hlod::ResidencySet onGpu_;
   // Loaded payloads waiting for an upload, in load order (parents before children).
   std::deque<std::pair<std::uint32_t, std::shared_ptr<const hlod::LocalMesh>>> pending_;
-  std::uint64_t gpuBytes_ = 0;
+  // The GPU copy of each texture on the GPU, by the image it came from (owner-compared, so a
+  // new image at a freed one's address is another key): nodes sharing a texture share it here.
+  std::map<std::weak_ptr<const hlod::Image>, std::weak_ptr<const GpuTexture>, std::owner_less<>>
+      textures_;
+  std::uint64_t gpuBytes_ = 0;  // buffers, and each texture once
+  void forget(const GpuMesh& mesh);  // takes its bytes off gpuBytes_
 };
 
-// Bytes an upload moves to the GL: vertex attributes, indices and the texture.
+// Bytes an upload moves to the GL: vertex attributes, indices and the texture (unless it is on
+// the GPU already).
 std::uint64_t uploadBytesOf(const hlod::LocalMesh& mesh);
 
 }  // namespace renderer

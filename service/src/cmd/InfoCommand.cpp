@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -174,6 +175,7 @@ int runInfo(const Argv& argv) {
     std::uint64_t textureStored = 0, textureBytes = 0;  // of the above, the textures'
   };
   std::map<std::uint32_t, Level> levels;
+  std::set<std::uint64_t> textureSections;
   std::uint64_t leafTriangles = 0;
   std::vector<std::uint32_t> leafTris, nodeTris;
   for (std::uint32_t i = 0; i < s.nodes.size(); ++i) {
@@ -183,10 +185,16 @@ int runInfo(const Argv& argv) {
     auto& l = levels[n.level];
     ++l.nodes;
     l.triangles += n.numTri;
-    l.payloadBytes += n.payloadSize;
-    l.memoryBytes += n.memoryBytes;
-    l.textureStored += n.textureSize;
-    l.textureBytes += n.textureBytes;
+    // A texture section shared by several nodes of a level is stored (and, by a loader,
+    // held) once: count it once.
+    l.payloadBytes += n.meshSize();
+    l.memoryBytes += n.memoryBytes - n.textureBytes;
+    if (n.textureSize > 0 && textureSections.insert(n.textureOffset).second) {
+      l.payloadBytes += n.textureSize;
+      l.memoryBytes += n.textureBytes;
+      l.textureStored += n.textureSize;
+      l.textureBytes += n.textureBytes;
+    }
     if (s.isLeaf(i)) {
       ++l.leaves;
       leafTriangles += n.numTri;

@@ -12,7 +12,8 @@
 // piece shares with the rest of the model are locked while simplifying: neighbouring nodes meet
 // on the same chain of input edges at every level. Textures are cropped to the node's
 // texture-coordinate range and down-sampled by the same factor (side / sqrt(s), at least
-// kMinTextureSide pixels).
+// kMinTextureSide pixels); where the crops of one level's nodes overlap, they share one texture,
+// stored once (kSharedTextureOverlap).
 //
 // Out of core: blocks are added one at a time; a block's payloads go straight to payload.bin and
 // only the NodeInfo records stay in memory, so memory is bounded by the largest block.
@@ -103,6 +104,19 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
 // maxTriangles triangles. Block::seam lists the positions each block shares with the others.
 std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles);
 
+// A rectangle of texels [x0, x1) x [y0, y1).
+struct TexelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  double area() const { return double(x1 - x0) * double(y1 - y0); }
+};
+// The texels that texCoords use, with one of margin: the whole texture when one of them lies
+// outside [0,1] (wrapping) or there are none.
+TexelRect usedTexels(const Image& texture, std::span<const glm::vec2> texCoords);
+
+// The nodes of one block, level and resolution share one texture when their own crops would add
+// up to more than this many times the area of their union (an atlas each node uses all over).
+constexpr double kSharedTextureOverlap = 1.5;
+
 // Crops a texture to the texel rectangle that texCoords (all in [0,1]) use, rewriting texCoords
 // to the crop, and box-filters it to about 1/sqrt(factor) of its side (at least kMinTextureSide
 // pixels, never enlarged). Texture coordinates outside [0,1] (wrapping) keep the whole texture.
@@ -124,6 +138,8 @@ using BuildProgressFn = std::function<void(const BuildProgress&)>;
 struct PreparedBlock {
   std::vector<NodeInfo> nodes;  // parent and firstChild index the block's own nodes
   std::vector<StoredPayload> payloads;
+  // Per node: the earlier node of the block whose texture section it shares (kNoNode: its own).
+  std::vector<std::uint32_t> textureOwner;
   std::uint64_t inputTriangles = 0;
 };
 

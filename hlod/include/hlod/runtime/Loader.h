@@ -22,6 +22,12 @@
 // deterministic tests. The render thread never waits: isResident() is lock-free,
 // residentPayload() and drainEvents() take a short lock.
 //
+// Shared textures: nodes of one level may share one texture section (NodeInfo::textureOffset).
+// It is decoded once and every such node gets the same image; a load whose texture is held
+// already reads only the mesh section; the texture counts once in residentBytes, while a resident
+// node or a load in progress holds it; eviction to make room for a node never takes a node whose
+// texture it is about to share.
+//
 // Pre-emption: when another node becomes the most important between two chunks, the partial
 // buffer of the interrupted node is kept (keepPartial, at most maxPartials buffers, their bytes
 // count against capBytes) and the load resumes where it stopped if that node comes back; a kept
@@ -96,7 +102,7 @@ struct LoaderCounters {
   std::uint64_t bytesRead = 0;
   std::uint64_t requests = 0;       // reads that did not continue the previous one
   double latencyMs = 0.0;           // emulated latency waited for (what pipelining left)
-  std::uint64_t residentBytes = 0;  // decoded payload bytes (memoryBytes) of resident nodes
+  std::uint64_t residentBytes = 0;  // decoded bytes of resident nodes, a shared texture once
   std::uint64_t inFlightBytes = 0;  // memoryBytes reserved by loads in progress
   std::uint64_t capBytes = 0;       // LoaderParams::capBytes (0 = none)
   std::uint64_t peakBytes = 0;      // peak of residentBytes + inFlightBytes
@@ -152,11 +158,26 @@ class Loader final : public Residency {
   // less its texture section).
   std::uint64_t readSizeOf(std::uint32_t node) const;
   std::uint64_t memoryOf(std::uint32_t node) const;
+  // Shared textures (NodeInfo::textureOffset): nodes of one level may share one texture section.
+  // It is decoded once, held by every node that uses it, and counted once in residentBytes,
+  // while at least one resident node or load in progress holds it. hasTexture: the node has a
+  // texture this loader keeps.
+  bool hasTexture(std::uint32_t node) const;
+  bool textureHeldLocked(std::uint32_t node) const;
+  std::uint64_t chargeLocked(std::uint32_t node) const;  // what loading it adds to memory
+  std::uint64_t holdTextureLocked(std::uint32_t node, const std::shared_ptr<const Image>& image);
+  void releaseTextureLocked(std::uint32_t node);
 
   struct Partial {
     std::vector<std::byte> bytes;
     std::uint64_t filled = 0;
+    std::uint64_t reserved = 0;  // its bytes in counters_.inFlightBytes
+    bool textureHeld = false;    // reads the mesh section only: its texture is held already
     bool cacheReserved = false;  // its memoryBytes are reserved in params_.cache
+  };
+  struct SharedTexture {
+    std::shared_ptr<const Image> image;
+    std::uint32_t users = 0;  // resident nodes and loads in progress
   };
 
   double priorityOf(std::uint32_t node) const;  // -1 when neither wanted nor prefetched
@@ -196,6 +217,7 @@ class Loader final : public Residency {
   std::vector<std::pair<double, std::uint32_t>> order_;  // wanted non-resident, best first
   bool orderDirty_ = true;
   std::map<std::uint32_t, std::unique_ptr<Partial>> partials_;
+  std::unordered_map<std::uint64_t, SharedTexture> textures_;  // by NodeInfo::textureOffset
   std::uint32_t current_ = kNoNode;
   std::uint32_t lastFinished_ = kNoNode;  // the node whose load completed last
   std::uint64_t streamEnd_ = ~0ull;       // payload.bin offset where the last read ended

@@ -8,15 +8,18 @@
 //     frame (u32 up axis 0/1/2 for x/y/z, i32 EPSG code, u32 toEnu 0/1, f64 origin lat, lon,
 //     height, u32 n, n bytes of printable ASCII CRS description, n <= kMaxCrsDescription),
 //     node records, root list, then a 64-bit FNV-1a of all preceding bytes. Version 4 added the
-//     model frame; other versions are refused with "rebuild it" (stores are derived data).
+//     model frame, version 5 the texture section's offset (NodeInfo::textureOffset); other
+//     versions are refused with "rebuild it" (stores are derived data).
 //   payload: u32 "HLPL", u32 version, u32 vertexCount, u32 indexCount, u32 flags (1: texCoords,
 //     2: one-sided), u32 texWidth, u32 texHeight, f32 baseColor[4], f32 positions[3 vc] (relative
 //     to the node's centre), f32 normals[3 vc], f32 texCoords[2 vc] (if flagged), u32
 //     indices[ic], u8 RGBA pixels[4 w h]: NodeInfo::memoryBytes in all. payload.bin holds it
 //     in two sections, each deflated on its own: the mesh (all but the pixels; CRC-32
-//     NodeInfo::payloadChecksum), then the pixels (NodeInfo::textureSize stored bytes, CRC-32
-//     textureChecksum; absent without a texture), NodeInfo::payloadSize bytes in all. A scene
-//     without textures reads only the mesh section.
+//     NodeInfo::payloadChecksum) at payloadOffset, and the pixels (NodeInfo::textureSize stored
+//     bytes, CRC-32 textureChecksum; absent without a texture) at textureOffset: right after the
+//     mesh, or where another node of the same block and level stored the texture they share
+//     (HlodBuilder.h says when). NodeInfo::payloadSize is the two sections' stored bytes. A
+//     scene without textures reads only the mesh section.
 // A truncated or corrupted store is an Error when opened or decoded, never a crash.
 #include <cstddef>
 #include <cstdint>
@@ -30,7 +33,7 @@
 
 namespace hlod {
 
-constexpr std::uint32_t kSkeletonFormatVersion = 4;
+constexpr std::uint32_t kSkeletonFormatVersion = 5;
 constexpr std::uint32_t kMaxCrsDescription = 256;  // bytes of ModelCrs::description kept
 constexpr std::uint32_t kPayloadFormatVersion = 2;
 
@@ -61,11 +64,13 @@ Result<std::vector<std::byte>> inflatePayload(std::span<const std::byte> stored,
 // A payload as payload.bin stores it: the deflated mesh and texture sections (the texture empty
 // without one), and their inflated sizes. Thread-safe: the builder prepares blocks in parallel.
 struct StoredPayload {
-  std::vector<std::byte> mesh, texture;
+  std::vector<std::byte> mesh, texture;  // texture: empty for a node sharing another's
   std::uint64_t memoryBytes = 0;   // NodeInfo::memoryBytes
   std::uint64_t textureBytes = 0;  // NodeInfo::textureBytes
 };
-StoredPayload storePayload(const LocalMesh& mesh);
+// withTexture false: the texture section is left out (the node shares one stored elsewhere), but
+// memoryBytes and textureBytes count its pixels.
+StoredPayload storePayload(const LocalMesh& mesh, bool withTexture = true);
 
 // skeleton.bin encoding; decoding verifies the checksum, the tree's structure and the build
 // parameters. A decoded skeleton guarantees what the rest of hlodr asserts: children
@@ -128,6 +133,9 @@ class NodeStoreWriter {
   // its memory and texture sizes. appendPayload(m) is appendStored(storePayload(m)).
   Status appendPayload(const LocalMesh& mesh, NodeInfo& node);
   Status appendStored(const StoredPayload& payload, NodeInfo& node);
+  // Appends payload's mesh section only; node's texture is the section `owner` (appended before)
+  // stored. payload.memoryBytes counts the pixels, as the node holds them once decoded.
+  Status appendSharingTexture(const StoredPayload& payload, const NodeInfo& owner, NodeInfo& node);
   // Writes skeleton.bin, flushes, and renames the folder to its destination (replacing an
   // existing store there).
   Status finish(const Skeleton& skeleton, StoreFacts facts);

@@ -28,17 +28,20 @@ struct NodeInfo {
   double staticBenefit = 0.0;             // eq. 2
   glm::vec3 avgNormal{0.0f, 0.0f, 1.0f};  // eq. 3 (fallback +Z when the node has no area)
   double geometricError = 0.0;  // world units; 0 at the leaves (for screen-space-error selection)
+  // The mesh section at payloadOffset, payloadSize - textureSize stored bytes; then the texture
+  // section, textureSize bytes at textureOffset: right after the mesh section, or the section
+  // of another node of its block and level that shares the texture (stored once).
   std::uint64_t payloadOffset = 0;
   std::uint64_t payloadSize = 0;      // bytes stored in payload.bin (compressed): what a load reads
-  std::uint32_t payloadChecksum = 0;  // CRC-32 of the mesh section (the stored bytes before the
-                                      // texture section)
+  std::uint32_t payloadChecksum = 0;  // CRC-32 of the mesh section
   std::uint64_t memoryBytes = 0;      // the decoded payload: what a resident node holds
-  // The texture's own section, the last textureSize of the payloadSize stored bytes (0: none):
-  // a scene without textures reads payloadSize - textureSize and holds memoryBytes -
-  // textureBytes.
+  // The texture's section (0: none): a scene without textures reads payloadSize - textureSize
+  // and holds memoryBytes - textureBytes.
+  std::uint64_t textureOffset = 0;
   std::uint64_t textureSize = 0;
   std::uint32_t textureChecksum = 0;  // CRC-32 of the texture section's stored bytes
   std::uint64_t textureBytes = 0;     // its decoded RGBA8 pixels
+  std::uint64_t meshSize() const { return payloadSize - textureSize; }
 };
 
 struct BuildParams {
