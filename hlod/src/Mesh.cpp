@@ -56,6 +56,7 @@ LocalMesh toLocal(const Mesh& mesh) {
   out.baseColor = mesh.baseColor;
   out.texture = mesh.texture;
   out.oneSided = mesh.oneSided;
+  out.progression = mesh.progression;
   return out;
 }
 

@@ -17,6 +17,9 @@
 
 #include <glm/glm.hpp>
 
+#include "hlod/Progression.h"
+#include "hlod/Splat.h"
+
 namespace hlod {
 
 // 8-bit RGBA image, row 0 at the top.
@@ -60,6 +63,9 @@ struct Mesh {
   // ground): back faces may be culled. Scanned and CAD data (mixed winding) leave it false and are
   // drawn two-sided.
   bool oneSided = false;
+  // How the triangles simplify further without re-simplifying (Parry; empty for the other
+  // simplifiers). Whoever renumbers the vertices or reorders the triangles must drop it.
+  Progression progression;
 
   std::size_t triangleCount() const { return indices.size() / 3; }
   Aabb bounds() const;
@@ -103,6 +109,8 @@ struct LocalMesh {
   glm::vec4 baseColor{0.8f, 0.8f, 0.8f, 1.0f};
   std::shared_ptr<const Image> texture;
   bool oneSided = false;  // as Mesh::oneSided
+  Progression progression;  // as Mesh::progression
+  std::vector<Splat> splats;  // empty: the node is never drawn as splats
 
   std::size_t triangleCount() const { return indices.size() / 3; }
 };
