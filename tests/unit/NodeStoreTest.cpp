@@ -260,6 +260,50 @@ TEST(NodeStorePayload, ForgedPayloadsAreRejectedOrDecodedSafely) {
   }
 }
 
+// A quad (two triangles) with Parry's progression down to none (vertices 0 and 2 combine into 4,
+// decimating both) and two splats.
+LocalMesh progressiveQuad() {
+  LocalMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5f, 0.5f, 0}};
+  m.normals.assign(5, {0, 0, 1});
+  m.indices = {0, 1, 2, 0, 2, 3};
+  m.progression.moves = {0, 4, 2, 4};
+  m.progression.moveEnd = {2};
+  m.progression.increments = {2};
+  m.splats = {{{0.25f, 0.5f, 0}, 0.6f, {0, 0, 1}, {0, 0}},
+              {{0.75f, 0.5f, 0}, 0.6f, {0, 0, 1}, {1, 1}}};
+  return m;
+}
+
+TEST(NodeStorePayload, TheProgressionAndTheSplatsRoundTrip) {
+  const LocalMesh m = progressiveQuad();
+  auto back = decodePayloadBytes(encodePayload(m), glm::dvec3(0.0));
+  ASSERT_TRUE(back) << back.message();
+  EXPECT_EQ(back->progression.moves, m.progression.moves);
+  EXPECT_EQ(back->progression.moveEnd, m.progression.moveEnd);
+  EXPECT_EQ(back->progression.increments, m.progression.increments);
+  ASSERT_EQ(back->splats.size(), 2u);
+  EXPECT_EQ(back->splats[1].position, m.splats[1].position);
+  EXPECT_EQ(back->splats[1].radius, 0.6f);
+  EXPECT_EQ(back->splats[1].texCoord, m.splats[1].texCoord);
+}
+
+TEST(NodeStorePayload, AProgressionThatCouldLoopOrReachOutsideIsRejected) {
+  const auto rejects = [](const Progression& p) {
+    LocalMesh m = progressiveQuad();
+    m.progression = p;
+    return !decodePayloadBytes(encodePayload(m), glm::dvec3(0.0));
+  };
+  EXPECT_FALSE(rejects({{0, 4, 2, 4}, {2}, {2}}));
+  EXPECT_TRUE(rejects({{0, 5, 2, 5}, {2}, {2}}));        // into a vertex past the mesh's
+  EXPECT_TRUE(rejects({{0, 0}, {1}, {1}}));              // a vertex into itself
+  EXPECT_TRUE(rejects({{0, 4, 4, 0}, {1, 2}, {1, 1}}));  // into a vertex already moved: a loop
+  EXPECT_TRUE(rejects({{0, 4, 0, 3}, {1, 2}, {1, 0}}));  // a vertex moved twice
+  EXPECT_TRUE(rejects({{0, 4, 2, 4}, {2}, {3}}));        // more decimated than there are
+  EXPECT_TRUE(rejects({{0, 4, 2, 4}, {1}, {2}}));        // a move outside every combination
+  EXPECT_TRUE(rejects({{0, 4, 2, 4}, {2, 1}, {1, 1}}));  // move ranges out of order
+}
+
 TEST(NodeStorePayload, StoredDeflatedAndInflatedOnlyToTheRecordedSize) {
   EXPECT_EQ(crc32(std::as_bytes(std::span("123456789", 9))), 0xcbf43926u);  // CRC-32 check value
   const LocalMesh m = texturedTriangle(64);
@@ -373,7 +417,8 @@ TEST_P(NodeStoreParallelBuild, TwoThreadsWriteTheStoreOneThreadWrites) {
     auto s = buildStoreFromModel(model, dir / ("t" + std::to_string(threads)), o);
     ASSERT_TRUE(s) << s.message();
     built.push_back(*s);
-  }  ASSERT_GT(built[0].roots.size(), 6u);  // many blocks, so that the workers overlap
+  }
+  ASSERT_GT(built[0].roots.size(), 6u);  // many blocks, so that the workers overlap
   const auto payload = readFile(dir / "t1" / "payload.bin");
   for (std::size_t k = 1; k < built.size(); ++k) {
     EXPECT_EQ(readFile(dir / ("t" + std::to_string(k == 1 ? 2 : 5)) / "payload.bin"), payload);

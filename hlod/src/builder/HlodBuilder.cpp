@@ -4,23 +4,25 @@
 
 #include <algorithm>
 #include <cassert>
-#include <limits>
 #include <chrono>
-#include <condition_variable>
-#include <mutex>
-#include <thread>
 #include <cmath>
+#include <condition_variable>
+#include <limits>
 #include <map>
+#include <mutex>
 #include <optional>
+#include <thread>
 #include <unordered_map>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include "builder/FacadePartition.h"
 #include "builder/Preprocess.h"
 #include "builder/SimplifierImpl.h"
 #include "builder/SlabPartition.h"
 #include "hlod/city/City.h"
+#include "hlod/parry/Splats.h"
 
 namespace hlod {
 
@@ -49,8 +51,8 @@ BlockBorders blockBorders(const Mesh& block, std::span<const glm::dvec3> seam) {
   std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> id;
   b.positionOf.resize(block.positions.size());
   for (std::size_t v = 0; v < block.positions.size(); ++v)
-    b.positionOf[v] =
-        id.try_emplace(block.positions[v] + glm::dvec3(0.0), std::uint32_t(id.size())).first->second;
+    b.positionOf[v] = id.try_emplace(block.positions[v] + glm::dvec3(0.0), std::uint32_t(id.size()))
+                          .first->second;
   b.corners.assign(id.size(), 0);
   b.seam.assign(id.size(), 0);
   b.scratch.assign(id.size(), 0);
@@ -147,6 +149,7 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
   BlockBorders borders = blockBorders(welded, seam);
   const double blockArea = surfaceArea(welded);
   const std::size_t blockTriangles = welded.triangleCount();
+  const bool byFacade = std::string_view(simplifier.name()) == "parry";
   // Pieces waiting to become nodes: their original triangles, and their vertices' block vertices.
   std::vector<Mesh> pieces;
   std::vector<std::vector<std::uint32_t>> origins;
@@ -170,7 +173,12 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
     // (The nodes are visited breadth-first: nodes[] grows level by level.)
     SlabPartition slabs;
     bool inner = s > 1.0 && piece.triangleCount() >= std::size_t(levelFactor) * options.minLeafTri;
-    if (inner) {
+    // Parry's block tree (Fig. 3): the block's children are its facades.
+    if (inner && i == 0 && byFacade) {
+      slabs = partitionIntoFacades(piece, options.up.value_or(UpAxis::Z), options.minLeafTri);
+      if (slabs.triangles.size() < 2) slabs = SlabPartition{};
+    }
+    if (inner && slabs.triangles.empty()) {
       slabs = partitionIntoSlabs(piece, levelFactor);
       mergeSmallSlabs(slabs, options.minLeafTri);
       // One slab left: the triangles bunch up in one slab; divide them by count instead.
@@ -275,10 +283,8 @@ void appendBlocks(const Mesh& mesh, const std::vector<std::vector<std::uint32_t>
     for (std::uint32_t k = 0; k < parts.size(); ++k)
       for (std::uint32_t t : parts[k])
         for (int c = 0; c < 3; ++c) {
-          auto [it, fresh] =
-              owner.try_emplace(mesh.positions[mesh.indices[std::size_t(t) * 3 + c]] +
-                                    glm::dvec3(0.0),
-                                k);
+          auto [it, fresh] = owner.try_emplace(
+              mesh.positions[mesh.indices[std::size_t(t) * 3 + c]] + glm::dvec3(0.0), k);
           if (!fresh && it->second != k) it->second = kShared;
         }
   for (std::size_t k = 0; k < parts.size(); ++k) {
@@ -288,7 +294,8 @@ void appendBlocks(const Mesh& mesh, const std::vector<std::vector<std::uint32_t>
     std::unordered_map<glm::dvec3, char, PositionHash> seen;
     for (const glm::dvec3& p : block.mesh.positions) {
       auto it = owner.find(p + glm::dvec3(0.0));
-      if (it != owner.end() && it->second == kShared && seen.try_emplace(p + glm::dvec3(0.0)).second)
+      if (it != owner.end() && it->second == kShared &&
+          seen.try_emplace(p + glm::dvec3(0.0)).second)
         block.seam.push_back(p);
     }
     blocks.push_back(std::move(block));
@@ -377,8 +384,7 @@ void remapToRect(const Image& texture, const TexelRect& rect, std::vector<glm::v
 
 // The rect of texture, box-filtered to about 1/sqrt(factor) of its side (at least
 // kMinTextureSide pixels, never enlarged).
-std::shared_ptr<const Image> cropImage(const Image& texture, const TexelRect& rect,
-                                       double factor) {
+std::shared_ptr<const Image> cropImage(const Image& texture, const TexelRect& rect, double factor) {
   const int cw = rect.x1 - rect.x0, ch = rect.y1 - rect.y0;
   const bool cropped = cw != texture.width || ch != texture.height;
   const double scale = factor > 1.0 ? 1.0 / std::sqrt(factor) : 1.0;
@@ -455,6 +461,7 @@ PreparedBlock HlodBuilder::prepareBlock(const Mesh& block, std::span<const glm::
     const NodeMeasures m = measureNode(n.mesh, options_.cTex);
     info.numTri = m.numTri;
     info.numTexTri = m.numTexTri;
+    info.minTri = info.numTri - std::uint32_t(n.mesh.progression.decimated());
     info.cost = m.cost;
     info.staticBenefit = m.staticBenefit;
     info.avgNormal = m.avgNormal;
@@ -503,6 +510,9 @@ PreparedBlock HlodBuilder::prepareBlock(const Mesh& block, std::span<const glm::
   }
   for (std::size_t k = 0; k < local.size(); ++k) {
     local[k].mesh = Mesh{};
+    // After the texture crops: the splats take their texture coordinates from the vertices.
+    meshes[k].splats = makeSplats(meshes[k]);
+    out.nodes[k].splatCount = std::uint32_t(meshes[k].splats.size());
     out.payloads.push_back(storePayload(meshes[k], out.textureOwner[k] == kNoNode));
     meshes[k] = LocalMesh{};
   }
@@ -619,7 +629,10 @@ Status prepareInParallel(HlodBuilder& builder, std::size_t count, unsigned threa
 Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::path& dir,
                                      const BuildOptions& options, const BuildProgressFn& progress) {
   const auto t0 = std::chrono::steady_clock::now();
-  auto builder = HlodBuilder::create(dir, options);
+  // The blocks' facades stand on the model's up axis.
+  BuildOptions withUp = options;
+  withUp.up = options.up.value_or(upAxisOf(model));
+  auto builder = HlodBuilder::create(dir, withUp);
   if (!builder) return builder.error();
   (*builder)->setModelFrame(upAxisOf(model), model.crs);
   std::vector<Block> blocks = cutIntoBlocks(model, options.maxBlockTriangles);

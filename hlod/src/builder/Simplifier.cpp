@@ -17,7 +17,9 @@ namespace hlod {
 Result<std::unique_ptr<Simplifier>> makeSimplifier(std::string_view name) {
   if (name == "meshopt") return std::unique_ptr<Simplifier>(makeMeshoptSimplifier());
   if (name == "openmesh") return std::unique_ptr<Simplifier>(makeOpenMeshSimplifier());
-  return makeError("unknown simplifier '" + std::string(name) + "' (choose meshopt or openmesh)");
+  if (name == "parry") return std::unique_ptr<Simplifier>(makeParrySimplifier());
+  return makeError("unknown simplifier '" + std::string(name) +
+                   "' (choose meshopt, openmesh or parry)");
 }
 
 namespace {

@@ -1,5 +1,5 @@
 #pragma once
-// The two Simplifier implementations (private; use makeSimplifier), and what they share.
+// The three Simplifier implementations (private; use makeSimplifier), and what they share.
 #include <cstdint>
 #include <cstring>
 
@@ -21,5 +21,6 @@ struct PositionHash {
 
 Simplifier* makeMeshoptSimplifier();
 Simplifier* makeOpenMeshSimplifier();
+Simplifier* makeParrySimplifier();
 
 }  // namespace hlod

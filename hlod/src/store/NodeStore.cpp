@@ -104,6 +104,12 @@ Result<LocalMesh> NodeStore::decodePayload(std::uint32_t node,
   }
   auto mesh = decodePayloadBytes(*raw, n.centre, pixels);
   if (!mesh) return makeError("node " + std::to_string(node) + ": " + mesh.message());
+  // What the selectors plan with, from the skeleton, must be what the payload can draw.
+  if (mesh->triangleCount() != n.numTri ||
+      mesh->triangleCount() - mesh->progression.decimated() != n.minTri ||
+      mesh->splats.size() != n.splatCount)
+    return makeError("node " + std::to_string(node) +
+                     ": payload disagrees with the skeleton (triangles, progression or splats)");
   return mesh;
 }
 

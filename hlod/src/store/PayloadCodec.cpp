@@ -2,6 +2,7 @@
 #include <libdeflate.h>
 
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <new>
 
@@ -14,13 +15,19 @@ namespace {
 
 constexpr std::uint32_t kPayloadMagic = 0x4c504c48u;  // "HLPL"
 constexpr std::uint32_t kFlagTexCoords = 1u;
-constexpr std::uint32_t kFlagOneSided = 2u;  // Mesh::oneSided
+constexpr std::uint32_t kFlagOneSided = 2u;     // Mesh::oneSided
+constexpr std::uint32_t kFlagProgression = 4u;  // Mesh::progression (since format 3)
+constexpr std::uint32_t kFlagSplats = 8u;       // LocalMesh::splats (since format 3)
+constexpr std::uint64_t kMaxSplats = 1u << 24;
 // Generous limits that still keep every size computation far from overflow.
 constexpr std::uint64_t kMaxVertices = 1ull << 28;
 constexpr std::uint64_t kMaxIndices = 1ull << 30;
 constexpr std::uint32_t kMaxTextureSide = 1u << 15;
+constexpr std::uint64_t kMaxCombinations = kMaxVertices;
+constexpr std::uint64_t kMaxMoves = 4 * kMaxVertices;
 constexpr std::uint64_t kMaxPayloadBytes =
-    7 * 4 + 16 + kMaxVertices * 32 + kMaxIndices * 4 + 4ull * kMaxTextureSide * kMaxTextureSide;
+    7 * 4 + 16 + kMaxVertices * 32 + kMaxIndices * 4 + 4 + 8 + kMaxCombinations * 8 +
+    kMaxMoves * 8 + 4 + kMaxSplats * 36 + 4ull * kMaxTextureSide * kMaxTextureSide;
 
 struct CompressorFree {
   void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
@@ -28,6 +35,27 @@ struct CompressorFree {
 struct DecompressorFree {
   void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
 };
+
+// A progression decoded from a store can be drawn (progressiveIndices' preconditions): every
+// vertex in range, each moved at most once, never into itself or into a vertex already moved (so
+// that references form a forest and no lookup loops), the combinations' move ranges in order, and
+// no more triangles decimated than the mesh has.
+bool validProgression(const Progression& p, std::uint32_t vertexCount, std::uint32_t triangles) {
+  std::vector<std::uint8_t> moved(vertexCount, 0);
+  std::uint64_t decimated = 0;
+  std::size_t move = 0;
+  for (std::size_t j = 0; j < p.increments.size(); ++j) {
+    if (p.moveEnd[j] < move || p.moveEnd[j] > p.moves.size() / 2) return false;
+    for (; move < p.moveEnd[j]; ++move) {
+      const std::uint32_t v = p.moves[2 * move], into = p.moves[2 * move + 1];
+      if (v >= vertexCount || into >= vertexCount || v == into || moved[v] || moved[into])
+        return false;
+      moved[v] = 1;
+    }
+    decimated += p.increments[j];
+  }
+  return move == p.moves.size() / 2 && decimated <= triangles;
+}
 
 bool allFinite(const float* v, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i)
@@ -78,7 +106,9 @@ std::vector<std::byte> encodePayload(const LocalMesh& mesh) {
   w.put(kPayloadFormatVersion);
   w.put(vc);
   w.put(std::uint32_t(mesh.indices.size()));
-  w.put((hasUv ? kFlagTexCoords : 0u) | (mesh.oneSided ? kFlagOneSided : 0u));
+  const bool hasProgression = !mesh.progression.empty();
+  w.put((hasUv ? kFlagTexCoords : 0u) | (mesh.oneSided ? kFlagOneSided : 0u) |
+        (hasProgression ? kFlagProgression : 0u) | (mesh.splats.empty() ? 0u : kFlagSplats));
   w.put(std::uint32_t(hasTex ? mesh.texture->width : 0));
   w.put(std::uint32_t(hasTex ? mesh.texture->height : 0));
   w.put(mesh.baseColor);
@@ -90,6 +120,19 @@ std::vector<std::byte> encodePayload(const LocalMesh& mesh) {
   }
   if (hasUv) w.putBytes(mesh.texCoords.data(), sizeof(glm::vec2) * vc);
   w.putBytes(mesh.indices.data(), sizeof(std::uint32_t) * mesh.indices.size());
+  if (hasProgression) {
+    const Progression& p = mesh.progression;
+    w.put(std::uint32_t(p.increments.size()));
+    w.put(std::uint32_t(p.moves.size() / 2));
+    w.putBytes(p.moves.data(), sizeof(std::uint32_t) * p.moves.size());
+    w.putBytes(p.moveEnd.data(), sizeof(std::uint32_t) * p.moveEnd.size());
+    w.putBytes(p.increments.data(), sizeof(std::uint32_t) * p.increments.size());
+  }
+  if (!mesh.splats.empty()) {
+    static_assert(sizeof(Splat) == 36);
+    w.put(std::uint32_t(mesh.splats.size()));
+    w.putBytes(mesh.splats.data(), sizeof(Splat) * mesh.splats.size());
+  }
   if (hasTex) w.putBytes(mesh.texture->pixels.data(), mesh.texture->pixels.size());
   return std::move(w.bytes);
 }
@@ -103,15 +146,38 @@ Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, const glm
       !r.get(th) || !r.get(baseColor))
     return makeError("payload truncated in its header");
   if (magic != kPayloadMagic) return makeError("payload has a bad magic number");
-  if (version != kPayloadFormatVersion)
+  // Format 2 is format 3 without progressions: both are read.
+  if (version != kPayloadFormatVersion && version != 2)
     return makeError("payload format version " + std::to_string(version) + " is not supported");
-  if (vc > kMaxVertices || ic > kMaxIndices || ic % 3 != 0 ||
-      (flags & ~(kFlagTexCoords | kFlagOneSided)) || tw > kMaxTextureSide || th > kMaxTextureSide ||
-      (tw == 0) != (th == 0))
+  const std::uint32_t knownFlags =
+      kFlagTexCoords | kFlagOneSided | (version >= 3 ? kFlagProgression | kFlagSplats : 0u);
+  if (vc > kMaxVertices || ic > kMaxIndices || ic % 3 != 0 || (flags & ~knownFlags) ||
+      tw > kMaxTextureSide || th > kMaxTextureSide || (tw == 0) != (th == 0))
     return makeError("payload header has impossible counts");
   const bool hasUv = flags & kFlagTexCoords;
-  const std::uint64_t expected = 7 * 4 + 16 + std::uint64_t(vc) * (hasUv ? 32 : 24) +
-                                 std::uint64_t(ic) * 4 + (pixels ? std::uint64_t(tw) * th * 4 : 0);
+  const bool hasProgression = flags & kFlagProgression;
+  // The progression's count sits right after the indices: read it from there before the size
+  // check, so that nothing is allocated for counts the bytes cannot hold.
+  const std::uint64_t meshBytes =
+      7 * 4 + 16 + std::uint64_t(vc) * (hasUv ? 32 : 24) + std::uint64_t(ic) * 4;
+  // The same for the splats' count, after the progression.
+  const bool hasSplats = flags & kFlagSplats;
+  const auto countAt = [&](std::uint64_t offset, std::uint32_t& count, std::uint64_t max) {
+    if (bytes.size() < offset + 4) return false;
+    std::memcpy(&count, bytes.data() + offset, 4);
+    return count > 0 && count <= max;
+  };
+  std::uint32_t combinations = 0, moves = 0, splats = 0;
+  if (hasProgression && (!countAt(meshBytes, combinations, kMaxCombinations) ||
+                         !countAt(meshBytes + 4, moves, kMaxMoves)))
+    return makeError("payload has an impossible progression count");
+  const std::uint64_t splatsAt =
+      meshBytes +
+      (hasProgression ? 8 + std::uint64_t(moves) * 8 + std::uint64_t(combinations) * 8 : 0);
+  if (hasSplats && !countAt(splatsAt, splats, kMaxSplats))
+    return makeError("payload has an impossible splat count");
+  const std::uint64_t expected = splatsAt + (hasSplats ? 4 + std::uint64_t(splats) * 36 : 0) +
+                                 (pixels ? std::uint64_t(tw) * th * 4 : 0);
   if (expected != bytes.size())
     return makeError("payload size " + std::to_string(bytes.size()) +
                      " does not match its counts (" + std::to_string(expected) + ")");
@@ -128,6 +194,29 @@ Result<LocalMesh> decodePayloadBytes(std::span<const std::byte> bytes, const glm
       (hasUv && !r.getBytes(m.texCoords.data(), std::uint64_t(vc) * 8)) ||
       !r.getBytes(m.indices.data(), std::uint64_t(ic) * 4))
     return makeError("payload truncated");
+  if (hasProgression) {
+    std::uint32_t count = 0, moveCount = 0;
+    m.progression.moves.resize(std::size_t(moves) * 2);
+    m.progression.moveEnd.resize(combinations);
+    m.progression.increments.resize(combinations);
+    if (!r.get(count) || !r.get(moveCount) ||
+        !r.getBytes(m.progression.moves.data(), std::uint64_t(moves) * 8) ||
+        !r.getBytes(m.progression.moveEnd.data(), std::uint64_t(combinations) * 4) ||
+        !r.getBytes(m.progression.increments.data(), std::uint64_t(combinations) * 4))
+      return makeError("payload truncated");
+    if (!validProgression(m.progression, vc, ic / 3))
+      return makeError("payload has an invalid progression (simplification arrays)");
+  }
+  if (hasSplats) {
+    std::uint32_t count = 0;
+    m.splats.resize(splats);
+    if (!r.get(count) || !r.getBytes(m.splats.data(), std::uint64_t(splats) * 36))
+      return makeError("payload truncated");
+    if (!allFinite(reinterpret_cast<const float*>(m.splats.data()), m.splats.size() * 9))
+      return makeError("payload holds a non-finite number");
+    for (const Splat& splat : m.splats)
+      if (!(splat.radius >= 0.0f)) return makeError("payload has a splat of negative radius");
+  }
   if (tw > 0 && pixels) {
     auto img = std::make_shared<Image>();
     img->width = int(tw);

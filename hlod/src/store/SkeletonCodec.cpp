@@ -49,6 +49,8 @@ void putNode(store::ByteWriter& w, const NodeInfo& n) {
   w.put(n.centre);
   w.put(n.numTri);
   w.put(n.numTexTri);
+  w.put(n.minTri);
+  w.put(n.splatCount);
   w.put(n.cost);
   w.put(n.staticBenefit);
   w.put(n.avgNormal);
@@ -66,14 +68,15 @@ void putNode(store::ByteWriter& w, const NodeInfo& n) {
 bool getNode(store::ByteReader& r, NodeInfo& n) {
   return r.get(n.parent) && r.get(n.firstChild) && r.get(n.childCount) && r.get(n.level) &&
          r.get(n.block) && r.get(n.bounds.min) && r.get(n.bounds.max) && r.get(n.centre) &&
-         r.get(n.numTri) && r.get(n.numTexTri) && r.get(n.cost) && r.get(n.staticBenefit) &&
-         r.get(n.avgNormal) && r.get(n.geometricError) && r.get(n.payloadOffset) &&
-         r.get(n.payloadSize) && r.get(n.payloadChecksum) && r.get(n.memoryBytes) &&
-         r.get(n.textureOffset) && r.get(n.textureSize) && r.get(n.textureChecksum) && r.get(n.textureBytes);
+         r.get(n.numTri) && r.get(n.numTexTri) && r.get(n.minTri) && r.get(n.splatCount) &&
+         r.get(n.cost) && r.get(n.staticBenefit) && r.get(n.avgNormal) && r.get(n.geometricError) &&
+         r.get(n.payloadOffset) && r.get(n.payloadSize) && r.get(n.payloadChecksum) &&
+         r.get(n.memoryBytes) && r.get(n.textureOffset) && r.get(n.textureSize) &&
+         r.get(n.textureChecksum) && r.get(n.textureBytes);
 }
 
 constexpr std::size_t kNodeRecordSize =
-    5 * 4 + 9 * 8 + 2 * 4 + 2 * 8 + 3 * 4 + 8 + 2 * 8 + 4 + 8 + 8 + 8 + 4 + 8;
+    5 * 4 + 9 * 8 + 4 * 4 + 2 * 8 + 3 * 4 + 8 + 2 * 8 + 4 + 8 + 8 + 8 + 4 + 8;
 
 bool finite3(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -222,7 +225,8 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
         (!n.bounds.empty() && (!finite3(n.bounds.min) || !finite3(n.bounds.max))) ||
         !std::isfinite(n.cost) || !std::isfinite(n.staticBenefit) ||
         !std::isfinite(n.geometricError) || !std::isfinite(n.avgNormal.x) ||
-        !std::isfinite(n.avgNormal.y) || !std::isfinite(n.avgNormal.z) || n.numTexTri > n.numTri)
+        !std::isfinite(n.avgNormal.y) || !std::isfinite(n.avgNormal.z) || n.numTexTri > n.numTri ||
+        n.minTri > n.numTri)
       return bad("node " + std::to_string(i) + " holds impossible values");
   }
   if (parentless != rootCount) return bad("root list does not match the parentless nodes");

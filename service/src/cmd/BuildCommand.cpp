@@ -21,7 +21,7 @@ namespace service::cmd {
 
 const char* const kBuildUsage =
     "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tris N]\n"
-    "                   [--min-leaf-tris N] [--simplifier meshopt|openmesh] [--c-tex X]\n"
+    "                   [--min-leaf-tris N] [--simplifier meshopt|openmesh|parry] [--c-tex X]\n"
     "                   [--max-block-tri N] [--threads N]\n"
     "                   [--lod X] [--up x|y|z] [--quiet]\n"
     "\n"
@@ -44,7 +44,11 @@ const char* const kBuildUsage =
     "                       --desired-tri is the same option)\n"
     "  --min-leaf-tris N    a piece is divided only when its children would hold N triangles\n"
     "                       on average: leaves hold N..levelFactor*N (default 2000)\n"
-    "  --simplifier NAME    meshopt (default, meshoptimizer) or openmesh (quadric decimater)\n"
+    "  --simplifier NAME    meshopt (default, meshoptimizer), openmesh (quadric decimater) or\n"
+    "                       parry (Parry et al.: the block's children are its facades, faces\n"
+    "                       simplified by sphere-hierarchy vertex clustering with their\n"
+    "                       outlines kept; each node can be drawn with any triangle count\n"
+    "                       down to its faces' outlines)\n"
     "  --c-tex X            c_tex of the cost (eq. 1), 0..1; default: the value `hlodr\n"
     "                       calibrate` stored ($HLODR_CALIBRATION or\n"
     "                       ~/.config/hlodr/calibration.json), else 0.6\n"
@@ -109,8 +113,9 @@ int runBuild(const Argv& argv) {
   options.threads = unsigned(*threads);
   options.maxBlockTriangles = std::size_t(*maxBlock);
   options.simplifier = args->get("simplifier", "meshopt");
-  if (options.simplifier != "meshopt" && options.simplifier != "openmesh") {
-    std::fprintf(stderr, "hlodr build: unknown simplifier '%s' (meshopt or openmesh)\n",
+  if (options.simplifier != "meshopt" && options.simplifier != "openmesh" &&
+      options.simplifier != "parry") {
+    std::fprintf(stderr, "hlodr build: unknown simplifier '%s' (meshopt, openmesh or parry)\n",
                  options.simplifier.c_str());
     return 2;
   }

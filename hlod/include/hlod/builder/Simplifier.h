@@ -1,7 +1,9 @@
 #pragma once
-// Mesh simplification for the HLOD levels (Lakhia III-A used QSlim). Two implementations behind
-// one interface: meshoptimizer's edge-collapse simplifier (default, "meshopt") and OpenMesh's
-// quadric decimater ("openmesh").
+// Mesh simplification for the HLOD levels (Lakhia III-A used QSlim). Three implementations behind
+// one interface: meshoptimizer's edge-collapse simplifier (default, "meshopt"), OpenMesh's
+// quadric decimater ("openmesh"), and Parry's sphere-hierarchy vertex clustering ("parry",
+// hlod/parry/ParryPiece.h), which replaces simplify() as a whole (it moves vertices to the
+// averages of their clusters, and gives the mesh its simplification arrays).
 //
 // Both simplify the shape only: the base class welds vertices by position (so texture seams and
 // the per-face corners of boxes do not pin the mesh), hands the implementation positions,
@@ -43,9 +45,12 @@ class Simplifier {
   // 0, kVertexLocked or kVertexOnOutline; a position takes the strongest flag of its vertices. A
   // mesh already at or below the target comes back unchanged. No kept triangle faces away from the
   // surface it stands for.
-  SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles,
-                          const std::vector<std::uint8_t>& locked = {},
-                          double errorLimit = std::numeric_limits<double>::infinity()) const;
+  // (parry: the mesh must be welded, as the builder's pieces are; its result always has a
+  // progression, down to its faces' outlines, and no vertex of it is a copy of an input vertex
+  // but the silhouette ones; errorLimit plays no part.)
+  virtual SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles,
+                                  const std::vector<std::uint8_t>& locked = {},
+                                  double errorLimit = std::numeric_limits<double>::infinity()) const;
 
   // What the implementations see: one vertex per distinct position.
   struct Shape {
@@ -65,7 +70,7 @@ class Simplifier {
                               double errorLimit) const = 0;
 };
 
-// "meshopt" or "openmesh"; an Error naming the choices otherwise.
+// "meshopt", "openmesh" or "parry"; an Error naming the choices otherwise.
 Result<std::unique_ptr<Simplifier>> makeSimplifier(std::string_view name);
 
 // Merges vertices whose position and texture coordinate are equal (normals of merged vertices

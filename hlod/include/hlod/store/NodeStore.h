@@ -8,12 +8,18 @@
 //     frame (u32 up axis 0/1/2 for x/y/z, i32 EPSG code, u32 toEnu 0/1, f64 origin lat, lon,
 //     height, u32 n, n bytes of printable ASCII CRS description, n <= kMaxCrsDescription),
 //     node records, root list, then a 64-bit FNV-1a of all preceding bytes. Version 4 added the
-//     model frame, version 5 the texture section's offset (NodeInfo::textureOffset); other
+//     model frame, version 5 the texture section's offset (NodeInfo::textureOffset), version 6
+//     the progression's and the splats' counts (NodeInfo::minTri, splatCount); other
 //     versions are refused with "rebuild it" (stores are derived data).
 //   payload: u32 "HLPL", u32 version, u32 vertexCount, u32 indexCount, u32 flags (1: texCoords,
-//     2: one-sided), u32 texWidth, u32 texHeight, f32 baseColor[4], f32 positions[3 vc] (relative
-//     to the node's centre), f32 normals[3 vc], f32 texCoords[2 vc] (if flagged), u32
-//     indices[ic], u8 RGBA pixels[4 w h]: NodeInfo::memoryBytes in all. payload.bin holds it
+//     2: one-sided, 4: progression, 8: splats), u32 texWidth, u32 texHeight, f32 baseColor[4], f32
+//     positions[3 vc] (relative to the node's centre), f32 normals[3 vc], f32 texCoords[2 vc] (if
+//     flagged), u32 indices[ic], the progression if flagged (4; u32 combinations c > 0, u32
+//     moves m > 0, u32 moves[2 m], u32 moveEnd[c], u32 increments[c]: Mesh::progression,
+//     checked to be drawable), the
+//     splats if flagged (8; u32 count s > 0, s x {f32 position[3], radius, normal[3],
+//     texCoord[2]}: LocalMesh::splats), u8 RGBA pixels[4 w h]: NodeInfo::memoryBytes in all.
+//     Version 3 added the progression and the splats; version 2 payloads are read too. payload.bin holds it
 //     in two sections, each deflated on its own: the mesh (all but the pixels; CRC-32
 //     NodeInfo::payloadChecksum) at payloadOffset, and the pixels (NodeInfo::textureSize stored
 //     bytes, CRC-32 textureChecksum; absent without a texture) at textureOffset: right after the
@@ -33,9 +39,9 @@
 
 namespace hlod {
 
-constexpr std::uint32_t kSkeletonFormatVersion = 5;
+constexpr std::uint32_t kSkeletonFormatVersion = 6;
 constexpr std::uint32_t kMaxCrsDescription = 256;  // bytes of ModelCrs::description kept
-constexpr std::uint32_t kPayloadFormatVersion = 2;
+constexpr std::uint32_t kPayloadFormatVersion = 3;
 
 // Facts about a whole store, beside the Skeleton.
 struct StoreFacts {
