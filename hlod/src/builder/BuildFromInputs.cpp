@@ -88,36 +88,36 @@ Status prepareInParallel(HlodBuilder& builder, std::size_t count, unsigned threa
   return status;
 }
 
-// Where a block's anchor is: the centre of its box on the ground (its lowest height).
-glm::dvec3 anchorPoint(const Aabb& box) {
-  const glm::dvec3 c = box.centre();
-  return {c.x, c.y, box.min.z};
-}
+// How a geo-referenced input moves into the ENU frame `to` through ECEF: exactly (a rotation
+// and an offset) from another ENU frame; vertex by vertex through the inverse projection from a
+// projected CRS, its normals then turned by the projection's local rotation at `centre` (grid
+// north is not true north: up to a few degrees). One Placement per input, so that positions two
+// of its blocks share move to the same place.
+struct Placement {
+  std::function<glm::dvec3(const glm::dvec3&)> point;
+  glm::dmat3 turn{1.0};
 
-// Moves a geo-referenced model into the ENU frame `to` through ECEF: exactly (a rotation and an
-// offset) from another ENU frame, vertex by vertex through the inverse projection from a
-// projected CRS, its normals then turned by the projection's local rotation at the model's
-// centre (grid north is not true north: up to a few degrees).
-void placeModel(Model& model, const GeoReference& from, const EnuFrame& to) {
-  glm::dmat3 turn(1.0);
-  std::function<glm::dvec3(const glm::dvec3&)> move;
-  if (const EnuFrame* frame = from.frame()) {
-    const EnuToEnu fromTo(*frame, to);
-    turn = fromTo.rotation;
-    move = [fromTo](const glm::dvec3& p) { return fromTo.point(p); };
-  } else {
-    move = [&](const glm::dvec3& p) { return to.fromEcef(from.toEcef(p)); };
-    const glm::dvec3 c = model.bounds().centre(), o = move(c);
-    const glm::dvec3 east = glm::normalize(move(c + glm::dvec3(1, 0, 0)) - o);
-    glm::dvec3 north = move(c + glm::dvec3(0, 1, 0)) - o;
+  Placement(const GeoReference& from, const EnuFrame& to, const glm::dvec3& centre) {
+    if (const EnuFrame* frame = from.frame()) {
+      const EnuToEnu fromTo(*frame, to);
+      turn = fromTo.rotation;
+      point = [fromTo](const glm::dvec3& p) { return fromTo.point(p); };
+      return;
+    }
+    point = [from, to](const glm::dvec3& p) { return to.fromEcef(from.toEcef(p)); };
+    const glm::dvec3 o = point(centre);
+    const glm::dvec3 east = glm::normalize(point(centre + glm::dvec3(1, 0, 0)) - o);
+    glm::dvec3 north = point(centre + glm::dvec3(0, 1, 0)) - o;
     north = glm::normalize(north - glm::dot(north, east) * east);
     turn = glm::dmat3(east, north, glm::cross(east, north));
   }
-  for (Mesh& mesh : model.meshes) {
-    for (glm::dvec3& p : mesh.positions) p = move(p);
-    for (glm::vec3& n : mesh.normals) n = glm::vec3(turn * glm::dvec3(n));
+  void apply(Model& model) const {
+    for (Mesh& mesh : model.meshes) {
+      for (glm::dvec3& p : mesh.positions) p = point(p);
+      for (glm::vec3& n : mesh.normals) n = glm::vec3(turn * glm::dvec3(n));
+    }
   }
-}
+};
 
 // Appends src's meshes and city objects to dst.
 void appendModel(Model& dst, Model&& src) {
@@ -139,10 +139,19 @@ struct CitySource {
   std::optional<EnuToEnu> move;
 };
 
-// Builds the blocks of the cities and of the model (nullptr: none) into one store. modelGeo:
-// where the model's coordinates are on the earth (its blocks' anchors).
-Result<Skeleton> buildBlocks(const std::vector<CitySource>& cities, const Model* model,
-                             const GeoReference& modelGeo,
+// A model as one input: where its coordinates are on the earth (its blocks' anchors), and its
+// placement into the store's frame (none: the store's frame is its own). Its buildings are
+// grouped into blocks in its own frame, where its x/y are the ground.
+struct ModelSource {
+  const Model* model = nullptr;
+  GeoReference geo;
+  std::optional<Placement> place;
+  GeoReference placedGeo;  // the store's frame, when placed
+};
+
+// Builds the blocks of the cities and models into one store.
+Result<Skeleton> buildBlocks(const std::vector<CitySource>& cities,
+                             const std::vector<ModelSource>& models,
                              const std::function<void(HlodBuilder&)>& setFrame,
                              const std::filesystem::path& dir, const BuildOptions& options,
                              const BuildProgressFn& progress,
@@ -152,34 +161,43 @@ Result<Skeleton> buildBlocks(const std::vector<CitySource>& cities, const Model*
   auto builder = HlodBuilder::create(dir, options);
   if (!builder) return builder.error();
   setFrame(**builder);
-  // Work: each city block, then the model's blocks: whole meshes cut by size (a model without
-  // city objects, as today) or its buildings grouped into grid blocks.
-  std::vector<std::pair<std::size_t, std::size_t>> cityBlocks;
-  for (std::size_t c = 0; c < cities.size(); ++c)
-    for (std::size_t j = 0; j < cities[c].manifest.blocks.size(); ++j) cityBlocks.push_back({c, j});
-  std::vector<Block> meshBlocks;
-  std::vector<BuildingBlock> groups;
-  if (model && !model->meshes.empty()) {
-    if (model->objectRuns.empty())
-      meshBlocks = cutIntoBlocks(*model, options.maxBlockTriangles);
-    else
-      groups = groupBuildingsIntoBlocks(*model, options.blockSize);
-  }
-  const std::size_t count = cityBlocks.size() + meshBlocks.size() + groups.size();
-  BuildProgress p;
-  p.blockCount = count;
-  const HlodBuilder& b = **builder;
-  const auto anchorOf = [&](const Aabb& box) -> std::optional<LatLon> {
-    if (!modelGeo.known()) return std::nullopt;
-    return modelGeo.toLatLon(anchorPoint(box));
+  // Work: each city block, then each model's blocks: whole meshes cut by size (a model without
+  // city objects) or its buildings grouped into grid blocks.
+  struct Unit {
+    std::size_t source, index;
+    bool city, group;
   };
+  std::vector<Unit> units;
+  for (std::size_t c = 0; c < cities.size(); ++c)
+    for (std::size_t j = 0; j < cities[c].manifest.blocks.size(); ++j)
+      units.push_back({c, j, true, false});
+  std::vector<std::vector<Block>> meshBlocks(models.size());
+  std::vector<std::vector<BuildingBlock>> groups(models.size());
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    const ModelSource& source = models[m];
+    if (source.model->meshes.empty()) continue;
+    if (!source.model->objectRuns.empty()) {
+      groups[m] = groupBuildingsIntoBlocks(*source.model, options.blockSize);
+      for (std::size_t g = 0; g < groups[m].size(); ++g) units.push_back({m, g, false, true});
+    } else if (source.place) {
+      Model placed = *source.model;
+      source.place->apply(placed);
+      meshBlocks[m] = cutIntoBlocks(placed, options.maxBlockTriangles);
+    } else {
+      meshBlocks[m] = cutIntoBlocks(*source.model, options.maxBlockTriangles);
+    }
+    for (std::size_t i = 0; i < meshBlocks[m].size(); ++i) units.push_back({m, i, false, false});
+  }
+  BuildProgress p;
+  p.blockCount = units.size();
+  const HlodBuilder& b = **builder;
   const auto prepare = [&](std::size_t i) -> Result<std::vector<PreparedBlock>> {
     std::vector<PreparedBlock> out;
-    if (i < cityBlocks.size()) {
+    const Unit u = units[i];
+    if (u.city) {
       // One block per worker in memory at a time: load, build its subtree, free.
-      const CitySource& city = cities[cityBlocks[i].first];
-      const std::size_t j = cityBlocks[i].second;
-      auto block = loadCityBlock(city.manifest, j);
+      const CitySource& city = cities[u.source];
+      auto block = loadCityBlock(city.manifest, u.index);
       if (!block) return block.error();
       if (city.move) {
         for (glm::dvec3& q : block->positions) q = city.move->point(q);
@@ -198,21 +216,34 @@ Result<Skeleton> buildBlocks(const std::vector<CitySource>& cities, const Model*
           for (int axis = 0; axis < 2; ++axis)
             for (double v : {box.min[axis], box.max[axis]}) part.sides.push_back({axis, v});
         out.push_back(b.prepareBlock(part.mesh, part.seam, part.sides));
-        out.back().anchor = city.manifest.blocks[j].anchor;
+        out.back().anchor = city.manifest.blocks[u.index].anchor;
         part = Block{};
       }
       return out;
     }
-    i -= cityBlocks.size();
-    if (i < meshBlocks.size()) {
-      out.push_back(b.prepareBlock(meshBlocks[i].mesh, meshBlocks[i].seam));
-      out.back().anchor = anchorOf(meshBlocks[i].mesh.bounds());
-      meshBlocks[i] = Block{};  // each worker frees its own block
+    const ModelSource& source = models[u.source];
+    // The anchor where the block is in its own model's frame: the centre of its box on the
+    // ground.
+    const auto anchorOf = [](const GeoReference& geo, const Aabb& box) -> std::optional<LatLon> {
+      if (!geo.known()) return std::nullopt;
+      const glm::dvec3 c = box.centre();
+      return geo.toLatLon({c.x, c.y, box.min.z});
+    };
+    if (!u.group) {
+      Block& block = meshBlocks[u.source][u.index];
+      out.push_back(b.prepareBlock(block.mesh, block.seam));
+      // A placed model's blocks are in the store's frame already.
+      out.back().anchor =
+          anchorOf(source.place ? source.placedGeo : source.geo, block.mesh.bounds());
+      block = Block{};  // each worker frees its own block
       return out;
     }
-    i -= meshBlocks.size();
-    BuildingBlock& group = groups[i];
-    const std::optional<LatLon> anchor = anchorOf(group.model.bounds());
+    BuildingBlock& group = groups[u.source][u.index];
+    const std::optional<LatLon> anchor = anchorOf(source.geo, group.model.bounds());
+    if (source.place) {
+      source.place->apply(group.model);
+      for (glm::dvec3& q : group.shared) q = source.place->point(q);
+    }
     std::vector<Block> parts = cutIntoBlocks(group.model, options.maxBlockTriangles);
     group.model = Model{};
     for (Block& part : parts) {
@@ -230,7 +261,7 @@ Result<Skeleton> buildBlocks(const std::vector<CitySource>& cities, const Model*
     p.seconds = secondsSince(t0);
     if (progress) progress(p);
   };
-  if (auto s = prepareInParallel(**builder, count, options.threads, prepare, committed); !s)
+  if (auto s = prepareInParallel(**builder, units.size(), options.threads, prepare, committed); !s)
     return s.error();
   return (*builder)->finish(secondsSince(t0));
 }
@@ -249,10 +280,10 @@ Result<CityManifest> readCity(const std::filesystem::path& cityDir) {
 Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::path& dir,
                                      const BuildOptions& options, const BuildProgressFn& progress) {
   const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<ModelSource> models{{&model, GeoReference::of(model.crs), std::nullopt, {}}};
   return buildBlocks(
-      {}, &model, GeoReference::of(model.crs),
-      [&](HlodBuilder& b) { b.setModelFrame(upAxisOf(model), model.crs); }, dir, options, progress,
-      t0);
+      {}, models, [&](HlodBuilder& b) { b.setModelFrame(upAxisOf(model), model.crs); }, dir,
+      options, progress, t0);
 }
 
 Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
@@ -264,7 +295,7 @@ Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
   std::vector<CitySource> cities(1);
   cities[0].manifest = std::move(*manifest);
   return buildBlocks(
-      cities, nullptr, {}, [](HlodBuilder&) {}, dir, options, progress, t0);
+      cities, {}, [](HlodBuilder&) {}, dir, options, progress, t0);
 }
 
 Result<Skeleton> buildStoreFromInputs(std::vector<BuildInput> inputs,
@@ -291,15 +322,16 @@ Result<Skeleton> buildStoreFromInputs(std::vector<BuildInput> inputs,
       std::find_if(geo.begin(), geo.end(), [](const GeoReference& g) { return g.known(); });
   const auto loose =
       std::find_if(geo.begin(), geo.end(), [](const GeoReference& g) { return !g.known(); });
-  Model merged;
   if (anchored == geo.end()) {
     // Mesh files: joined as they are, in the first one's frame and CRS.
+    Model merged;
     merged.zUp = inputs[0].model.zUp;
     merged.crs = inputs[0].model.crs;
     for (BuildInput& in : inputs) appendModel(merged, std::move(in.model));
+    const std::vector<ModelSource> models{{&merged, GeoReference(), std::nullopt, {}}};
     return buildBlocks(
-        {}, &merged, {}, [&](HlodBuilder& b) { b.setModelFrame(upAxisOf(merged), merged.crs); },
-        dir, options, progress, t0);
+        {}, models, [&](HlodBuilder& b) { b.setModelFrame(upAxisOf(merged), merged.crs); }, dir,
+        options, progress, t0);
   }
   if (loose != geo.end()) {
     const BuildInput& l = inputs[std::size_t(loose - geo.begin())];
@@ -310,9 +342,14 @@ Result<Skeleton> buildStoreFromInputs(std::vector<BuildInput> inputs,
                      ": build inputs without an anchor on their own");
   }
   // One frame for all: the first input's ENU frame (a projected one: the ENU frame at its centre).
+  const auto groundCentre = [](const Aabb& box) {
+    const glm::dvec3 c = box.centre();
+    return glm::dvec3(c.x, c.y, box.min.z);
+  };
   const EnuFrame target = geo[0].frame()
                               ? *geo[0].frame()
-                              : EnuFrame(geo[0].toLatLon(anchorPoint(inputs[0].model.bounds())));
+                              : EnuFrame(geo[0].toLatLon(groundCentre(inputs[0].model.bounds())));
+  std::vector<ModelSource> models;
   std::size_t city = 0;
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     if (inputs[i].cityDir) {
@@ -320,10 +357,11 @@ Result<Skeleton> buildStoreFromInputs(std::vector<BuildInput> inputs,
       ++city;
       continue;
     }
-    if (i > 0 || !geo[0].frame()) placeModel(inputs[i].model, geo[i], target);
-    appendModel(merged, std::move(inputs[i].model));
+    ModelSource source{&inputs[i].model, geo[i], std::nullopt, GeoReference::enu(target.origin())};
+    if (i > 0 || !geo[0].frame())
+      source.place.emplace(geo[i], target, inputs[i].model.bounds().centre());
+    models.push_back(std::move(source));
   }
-  merged.zUp = true;
   ModelCrs crs;
   crs.toEnu = true;
   crs.originLat = target.origin().lat;
@@ -332,8 +370,8 @@ Result<Skeleton> buildStoreFromInputs(std::vector<BuildInput> inputs,
   crs.description = std::to_string(inputs.size()) +
                     " inputs placed through ECEF in east-north-up metres at the first one's origin";
   return buildBlocks(
-      cities, &merged, GeoReference::enu(target.origin()),
-      [&](HlodBuilder& b) { b.setModelFrame(UpAxis::Z, crs); }, dir, options, progress, t0);
+      cities, models, [&](HlodBuilder& b) { b.setModelFrame(UpAxis::Z, crs); }, dir, options,
+      progress, t0);
 }
 
 }  // namespace hlod
