@@ -50,6 +50,29 @@ void checkGuarantees(const hlod::DecodedSkeleton& d) {
     std::abort();
   for (const unsigned char c : s.crs.description)
     if (c < 0x20 || c >= 0x7f) std::abort();
+  // The quadtree hides no root from the selectors: roots ascending, each in exactly one leaf
+  // cell whose box holds its own, the cell its anchor gives.
+  for (std::size_t i = 1; i < s.roots.size(); ++i)
+    if (s.roots[i] <= s.roots[i - 1]) std::abort();
+  const auto& q = s.quadtree;
+  if (q.empty()) return;
+  std::vector<int> seen(count, 0);
+  for (const auto& c : q.cells) {
+    if (c.childCount > 0 && c.blockCount > 0) std::abort();
+    for (std::uint32_t k = c.firstChild; k < c.firstChild + c.childCount; ++k)
+      if (k >= q.cells.size()) std::abort();
+    for (std::uint32_t k = c.firstBlock; k < c.firstBlock + c.blockCount; ++k) {
+      if (k >= q.blocks.size()) std::abort();
+      const auto& b = q.blocks[k];
+      if (b.root >= count || s.nodes[b.root].parent != hlod::kNoNode) std::abort();
+      ++seen[b.root];
+      const auto& box = s.nodes[b.root].bounds;
+      if (box.min.x < c.bounds.min.x || box.max.z > c.bounds.max.z) std::abort();
+      if (hlod::quadCellAt(q.rect, q.depth, b.anchor) != glm::uvec2(c.x, c.y)) std::abort();
+    }
+  }
+  for (auto r : s.roots)
+    if (seen[r] != 1) std::abort();
 }
 
 }  // namespace

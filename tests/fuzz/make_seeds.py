@@ -157,7 +157,7 @@ def node(parent, first, count, level, payload_off, payload_size, memory):
     b += struct.pack("<2I", 12, 0) + struct.pack("<2d", 1.5, 3.0) + struct.pack("<3f", 0, 0, 1)
     b += struct.pack("<d", 0.25) + struct.pack("<2Q", payload_off, payload_size)
     b += struct.pack("<I", 0x12345678) + struct.pack("<Q", memory)
-    b += struct.pack("<QIQ", 0, 0, 0)  # no texture section
+    b += struct.pack("<QQIQ", 0, 0, 0, 0)  # no texture section (offset, size, checksum, bytes)
     return b
 
 
@@ -166,12 +166,26 @@ def frame(up=2, epsg=0, to_enu=0, origin=(0.0, 0.0, 0.0), text=b""):
     return b + struct.pack("<I", len(text)) + text
 
 
-def skeleton(nodes, roots, payload_bytes, name=b"meshopt", model_frame=frame()):
-    b = b"HLODSKEL" + struct.pack("<II", 4, 0x01020304)
+BOX = ((-1.0, -1.0, 0.0), (1.0, 1.0, 2.0))  # every seed node's box
+
+
+def cell(level, x, y, first_child, child_count, first_block, block_count, box=BOX):
+    return struct.pack("<7I", level, x, y, first_child, child_count, first_block, block_count) + \
+        struct.pack("<6d", *box[0], *box[1])
+
+
+def quadtree(domain=0, rect=(0.0, 0.0, 0.0, 0.0), depth=0, cells=(), blocks=()):
+    """The block quadtree (version 6): blocks are (root, u, v)."""
+    b = struct.pack("<I4dIII", domain, *rect, depth, len(cells), len(blocks))
+    return b + b"".join(cells) + b"".join(struct.pack("<I2d", *blk) for blk in blocks)
+
+
+def skeleton(nodes, roots, payload_bytes, name=b"meshopt", model_frame=frame(), tree=quadtree()):
+    b = b"HLODSKEL" + struct.pack("<II", 6, 0x01020304)
     b += struct.pack("<dId", 3.0, 2000, 0.1) + struct.pack("<I", len(name)) + name
     b += struct.pack("<QIdQ", 24, 1, 0.5, payload_bytes) + model_frame
     b += struct.pack("<II", len(nodes), len(roots))
-    b += b"".join(nodes) + b"".join(struct.pack("<I", r) for r in roots)
+    b += b"".join(nodes) + b"".join(struct.pack("<I", r) for r in roots) + tree
     return b + struct.pack("<Q", 0)  # checksum: the target computes it
 
 
@@ -181,9 +195,16 @@ put("skeleton", "tree.bin", skeleton(
     [node(NO, 2, 2, 0, 0, 100, 400), node(NO, 0, 0, 0, 100, 50, 200),
      node(0, 0, 0, 1, 150, 60, 300), node(0, 4, 1, 1, 210, 70, 300), node(3, 0, 0, 2, 280, 20, 80)],
     [0, 1], 300, name=b"openmesh",
-    model_frame=frame(2, 4979, 1, (51.9, 4.46, 2.0), b"EPSG:4979 (geographic): converted to east-north-up metres")))
+    model_frame=frame(2, 4979, 1, (51.9, 4.46, 2.0), b"EPSG:4979 (geographic): converted to east-north-up metres"),
+    # Both blocks at 51.9 N 4.46 E in a geographic quadtree of depth 2: cell (2, 3) at level 2.
+    tree=quadtree(1, (-180.0, -90.0, 180.0, 90.0), 2,
+                  [cell(0, 0, 0, 1, 1, 0, 0), cell(1, 1, 1, 2, 1, 0, 0), cell(2, 2, 3, 0, 0, 0, 2)],
+                  [(0, 4.46, 51.9), (1, 4.46, 51.9)])))
+# A model without a geographic anchor: a one-cell quadtree over its own x/y.
 put("skeleton", "y-up.bin", skeleton([node(NO, 0, 0, 0, 0, 100, 400)], [0], 100,
-                                     model_frame=frame(up=1)))
+                                     model_frame=frame(up=1),
+                                     tree=quadtree(2, (0.0, 0.0, 1.0, 1.0), 0,
+                                                   [cell(0, 0, 0, 0, 0, 0, 1)], [(0, 0.0, 0.0)])))
 
 
 # --- node payloads: the raw form, and "u32 decoded size + raw DEFLATE" as payload.bin holds it ---

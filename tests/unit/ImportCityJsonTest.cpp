@@ -104,6 +104,50 @@ TEST(CityJsonImport, AUnitCubeSolidGivesTwelveOutwardOneSidedTriangles) {
   EXPECT_EQ(b.max, glm::dvec3(1.0));
 }
 
+TEST(CityJsonImport, EachTriangleKeepsItsCityObjectAsRunsPerMesh) {
+  // Three cubes, each its own building: their triangles spread over the roof, wall and ground
+  // meshes, and the runs say which building each came from.
+  json vertices = json::array();
+  for (int b = 0; b < 3; ++b)
+    for (const auto& v : kCube) vertices.push_back({v[0].get<int>() + 3 * b, v[1], v[2]});
+  json objects;
+  for (int b = 0; b < 3; ++b) {
+    json shell = kCubeShell;
+    for (auto& face : shell)
+      for (auto& ring : face)
+        for (auto& i : ring) i = i.get<int>() + 8 * b;
+    objects["b" + std::to_string(b)] =
+        object({{{"type", "Solid"}, {"lod", "1"}, {"boundaries", {shell}}}});
+  }
+  TempDir dir;
+  auto m = importText(dir, doc(vertices, objects).dump());
+  ASSERT_TRUE(m.ok()) << m.message();
+  EXPECT_EQ(m->cityObjects, 3u);
+  std::vector<std::size_t> trianglesOf(3, 0);
+  std::vector<std::vector<std::uint8_t>> covered(m->meshes.size());
+  for (std::size_t k = 0; k < m->meshes.size(); ++k)
+    covered[k].assign(m->meshes[k].triangleCount(), 0);
+  for (const ObjectRun& r : m->objectRuns) {
+    ASSERT_LT(r.object, 3u);
+    ASSERT_LT(r.mesh, m->meshes.size());
+    const Mesh& mesh = m->meshes[r.mesh];
+    ASSERT_LE(r.firstTriangle + r.triangleCount, mesh.triangleCount());
+    trianglesOf[r.object] += r.triangleCount;
+    for (std::uint32_t t = r.firstTriangle; t < r.firstTriangle + r.triangleCount; ++t) {
+      ++covered[r.mesh][t];
+      // The object's cube: x in [3b, 3b + 1].
+      for (int c = 0; c < 3; ++c) {
+        const double x = mesh.positions[mesh.indices[3 * t + c]].x;
+        EXPECT_GE(x, 3.0 * r.object);
+        EXPECT_LE(x, 3.0 * r.object + 1.0);
+      }
+    }
+  }
+  EXPECT_EQ(trianglesOf, (std::vector<std::size_t>{12, 12, 12}));
+  for (const auto& mesh : covered)
+    for (std::uint8_t c : mesh) EXPECT_EQ(c, 1);
+}
+
 TEST(CityJsonImport, ASolidWoundInwardsIsTurnedOutwards) {
   json shell = kCubeShell;
   for (auto& surface : shell) std::reverse(surface[0].begin(), surface[0].end());

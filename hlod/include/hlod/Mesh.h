@@ -82,6 +82,16 @@ struct ModelCrs {
   double originLat = 0.0, originLon = 0.0, originHeight = 0.0;
 };
 
+// The triangles of one city object in one mesh: [firstTriangle, firstTriangle + triangleCount)
+// of meshes[mesh] came from city object `object` (CityJSON keeps each building whole this way,
+// so that the builder can group buildings into blocks).
+struct ObjectRun {
+  std::uint32_t object = 0;
+  std::uint32_t mesh = 0;
+  std::uint32_t firstTriangle = 0;
+  std::uint32_t triangleCount = 0;
+};
+
 // Several meshes: a glTF scene, an OBJ with several materials, a city.
 struct Model {
   std::vector<Mesh> meshes;
@@ -89,8 +99,11 @@ struct Model {
   std::string format;
   ModelCrs crs;
   std::size_t cityObjects = 0;  // CityJSON: city objects with imported geometry
-  std::string lod;              // CityJSON: the level(s) of detail imported
-  bool zUp = false;             // true for city models (CityJSON); mesh files are Y-up
+  // CityJSON: every triangle's city object (objects numbered 0..cityObjects-1), as runs; empty
+  // for the mesh formats, whose meshes have no objects.
+  std::vector<ObjectRun> objectRuns;
+  std::string lod;   // CityJSON: the level(s) of detail imported
+  bool zUp = false;  // true for city models (CityJSON); mesh files are Y-up
   // What the import skipped without failing (a texture it could not load, a material library
   // outside the model's folder): for the caller to show. The library never prints.
   std::vector<std::string> warnings;

@@ -4,14 +4,10 @@
 
 #include <algorithm>
 #include <cassert>
-#include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <optional>
-#include <thread>
 #include <unordered_map>
 
 #include <OpenImageIO/imagebuf.h>
@@ -25,14 +21,6 @@
 #include "hlod/parry/Splats.h"
 
 namespace hlod {
-
-namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 namespace {
 
@@ -525,6 +513,7 @@ Status HlodBuilder::commitBlock(PreparedBlock&& block) {
   if (skeleton_.nodes.size() + block.nodes.size() >= kNoNode) return makeError("too many nodes");
   const auto base = std::uint32_t(skeleton_.nodes.size());
   skeleton_.roots.push_back(base);
+  anchors_.push_back(block.anchor);
   for (std::size_t k = 0; k < block.nodes.size(); ++k) {
     NodeInfo info = block.nodes[k];
     if (info.parent != kNoNode) info.parent += base;
@@ -546,161 +535,13 @@ Status HlodBuilder::commitBlock(PreparedBlock&& block) {
 Result<Skeleton> HlodBuilder::finish(double buildSeconds) {
   // An empty store would only be rejected later, by `hlodr path` and the renderer.
   if (skeleton_.nodes.empty()) return makeError("no triangles to build a store from");
+  skeleton_.quadtree = quadtreeOfRoots(skeleton_, anchors_);
   StoreFacts facts;
   facts.inputTriangles = inputTriangles_;
   facts.blockCount = blockCount_;
   facts.buildSeconds = buildSeconds;
   if (auto s = writer_->finish(skeleton_, facts); !s) return s.error();
   return skeleton_;
-}
-
-namespace {
-
-// Prepares items 0..count-1 on `threads` workers and commits them in order on the calling
-// thread, so the store does not depend on the thread count. A worker starts item i only when
-// fewer than 2 x threads items wait to be committed: memory is bounded by the items in flight.
-// An error (or an exception, such as bad_alloc) stops the workers and is returned.
-using PrepareFn = std::function<Result<std::vector<PreparedBlock>>(std::size_t)>;
-Status prepareInParallel(HlodBuilder& builder, std::size_t count, unsigned threads,
-                         const PrepareFn& prepare,
-                         const std::function<void(std::size_t, std::uint64_t)>& committed) {
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = unsigned(std::min<std::size_t>(threads, std::max<std::size_t>(1, count)));
-  const std::size_t window = 2 * std::size_t(threads);
-  std::mutex mutex;
-  std::condition_variable changed;
-  std::vector<std::optional<Result<std::vector<PreparedBlock>>>> slots(count);
-  std::size_t next = 0, done = 0;  // next item to start; items committed
-  bool stop = false;
-  const auto work = [&] {
-    for (;;) {
-      std::size_t i;
-      {
-        std::unique_lock lock(mutex);
-        changed.wait(lock, [&] { return stop || next >= count || next < done + window; });
-        if (stop || next >= count) return;
-        i = next++;
-      }
-      Result<std::vector<PreparedBlock>> r = makeError("not prepared");
-      try {
-        r = prepare(i);
-      } catch (const std::exception& e) {
-        r = makeError(std::string("block ") + std::to_string(i) + ": " + e.what());
-      }
-      std::lock_guard lock(mutex);
-      slots[i] = std::move(r);
-      changed.notify_all();
-    }
-  };
-  std::vector<std::thread> workers;
-  for (unsigned t = 0; t < threads; ++t) workers.emplace_back(work);
-  Status status = Ok{};
-  for (std::size_t i = 0; i < count && status; ++i) {
-    Result<std::vector<PreparedBlock>> item = makeError("");
-    {
-      std::unique_lock lock(mutex);
-      changed.wait(lock, [&] { return slots[i].has_value(); });
-      item = std::move(*slots[i]);
-      slots[i].reset();
-    }
-    std::uint64_t triangles = 0;
-    if (!item) {
-      status = item.error();
-    } else {
-      for (PreparedBlock& b : *item) {
-        triangles += b.inputTriangles;
-        if (status) status = builder.commitBlock(std::move(b));
-      }
-    }
-    {
-      std::lock_guard lock(mutex);
-      ++done;
-      if (!status) stop = true;
-      changed.notify_all();
-    }
-    if (status && committed) committed(i, triangles);
-  }
-  for (std::thread& w : workers) w.join();
-  return status;
-}
-
-}  // namespace
-
-Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::path& dir,
-                                     const BuildOptions& options, const BuildProgressFn& progress) {
-  const auto t0 = std::chrono::steady_clock::now();
-  // The blocks' facades stand on the model's up axis.
-  BuildOptions withUp = options;
-  withUp.up = options.up.value_or(upAxisOf(model));
-  auto builder = HlodBuilder::create(dir, withUp);
-  if (!builder) return builder.error();
-  (*builder)->setModelFrame(upAxisOf(model), model.crs);
-  std::vector<Block> blocks = cutIntoBlocks(model, options.maxBlockTriangles);
-  BuildProgress p;
-  p.blockCount = blocks.size();
-  const HlodBuilder& b = **builder;
-  const auto prepare = [&](std::size_t i) -> Result<std::vector<PreparedBlock>> {
-    std::vector<PreparedBlock> out;
-    out.push_back(b.prepareBlock(blocks[i].mesh, blocks[i].seam));
-    blocks[i] = Block{};  // each worker frees its own block
-    return out;
-  };
-  const auto committed = [&](std::size_t, std::uint64_t triangles) {
-    p.trianglesDone += triangles;
-    ++p.blocksDone;
-    p.seconds = secondsSince(t0);
-    if (progress) progress(p);
-  };
-  if (auto s = prepareInParallel(**builder, blocks.size(), options.threads, prepare, committed); !s)
-    return s.error();
-  return (*builder)->finish(secondsSince(t0));
-}
-
-Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
-                                    const std::filesystem::path& dir, const BuildOptions& options,
-                                    const BuildProgressFn& progress) {
-  const auto t0 = std::chrono::steady_clock::now();
-  auto manifest = readCityManifest(cityDir);
-  if (!manifest) return manifest.error();
-  if (manifest->blocks.empty())
-    return makeError((cityDir / "city.json").string() +
-                     " lists no blocks: no triangles to build a store from");
-  auto builder = HlodBuilder::create(dir, options);
-  if (!builder) return builder.error();
-  BuildProgress p;
-  p.blockCount = manifest->blocks.size();
-  const HlodBuilder& b = **builder;
-  const auto prepare = [&](std::size_t i) -> Result<std::vector<PreparedBlock>> {
-    // One block per worker in memory at a time: load, build its subtree, free.
-    auto block = loadCityBlock(*manifest, i);
-    if (!block) return block.error();
-    // A city block is one texture already; split only blocks over the bound.
-    Model one;
-    one.meshes.push_back(std::move(*block));
-    std::vector<Block> parts = cutIntoBlocks(one, options.maxBlockTriangles);
-    // A city block's sides (the middles of its streets, on its box) meet its neighbours' ground.
-    const Aabb box = one.bounds();
-    one = Model{};
-    std::vector<PreparedBlock> out;
-    for (Block& part : parts) {
-      for (int axis = 0; axis < 2; ++axis)
-        for (double v : {box.min[axis], box.max[axis]}) part.sides.push_back({axis, v});
-      out.push_back(b.prepareBlock(part.mesh, part.seam, part.sides));
-      part = Block{};
-    }
-    return out;
-  };
-  const auto committed = [&](std::size_t, std::uint64_t triangles) {
-    p.trianglesDone += triangles;
-    ++p.blocksDone;
-    p.seconds = secondsSince(t0);
-    if (progress) progress(p);
-  };
-  if (auto s = prepareInParallel(**builder, manifest->blocks.size(), options.threads, prepare,
-                                 committed);
-      !s)
-    return s.error();
-  return (*builder)->finish(secondsSince(t0));
 }
 
 }  // namespace hlod

@@ -192,7 +192,9 @@ class Reader {
   std::vector<std::string> materialNames_;
   std::vector<Bucket> buckets_;
   std::map<std::string, std::size_t> bucketIndex_;
-  std::vector<std::size_t> meshOf_;  // bucket -> mesh in model_
+  std::vector<std::size_t> meshOf_;   // bucket -> mesh in model_
+  std::uint32_t object_ = 0;          // the city object being read (its number in objectRuns)
+  std::vector<std::size_t> lastRun_;  // mesh -> its last entry in model_.objectRuns
   std::uint64_t triangles_ = 0;
   std::size_t degenerate_ = 0, partial_ = 0, droppedHoles_ = 0, openShells_ = 0, flipped_ = 0;
   std::size_t textured_ = 0, skippedTypes_ = 0, relabelled_ = 0;
@@ -574,6 +576,14 @@ void Reader::emit(std::vector<Polygon>& polygons) {
       model_.meshes.push_back(std::move(mesh));
     }
     Mesh& mesh = model_.meshes[m];
+    // The object's triangles in this mesh are one run: objects are read one after another.
+    if (lastRun_.size() <= m) lastRun_.resize(m + 1, SIZE_MAX);
+    if (lastRun_[m] == SIZE_MAX || model_.objectRuns[lastRun_[m]].object != object_) {
+      lastRun_[m] = model_.objectRuns.size();
+      model_.objectRuns.push_back(
+          {object_, std::uint32_t(m), std::uint32_t(mesh.triangleCount()), 0});
+    }
+    model_.objectRuns[lastRun_[m]].triangleCount += std::uint32_t(p.triangles.size());
     // Vertices of their own per polygon: faces of a building meet at sharp edges, and a vertex
     // shared across them would smooth its normal.
     const auto base = std::uint32_t(mesh.positions.size());
@@ -713,6 +723,7 @@ Status Reader::readObject(const std::string& id, const json& object) {
     if (!s) return s;
   }
   if (any) ++model_.cityObjects;
+  object_ = std::uint32_t(model_.cityObjects);
   return Ok{};
 }
 

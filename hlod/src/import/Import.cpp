@@ -89,8 +89,10 @@ std::string fmt(double v) {
 Status validate(const std::filesystem::path& path, Model& model) {
   std::vector<Mesh> kept;
   kept.reserve(model.meshes.size());
+  std::vector<std::uint32_t> keptAs(model.meshes.size(), 0xffffffffu);  // for objectRuns
   std::size_t vertexBase = 0;
-  for (auto& mesh : model.meshes) {
+  for (std::size_t k = 0; k < model.meshes.size(); ++k) {
+    Mesh& mesh = model.meshes[k];
     const std::size_t n = mesh.positions.size();
     for (std::size_t i = 0; i < n; ++i) {
       const auto& p = mesh.positions[i];
@@ -118,9 +120,19 @@ Status validate(const std::filesystem::path& path, Model& model) {
     for (auto& uv : mesh.texCoords)
       if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = glm::vec2(0.0f);
     vertexBase += n;
-    if (!mesh.indices.empty()) kept.push_back(std::move(mesh));
+    if (!mesh.indices.empty()) {
+      keptAs[k] = std::uint32_t(kept.size());
+      kept.push_back(std::move(mesh));
+    }
   }
   model.meshes = std::move(kept);
+  // Runs follow their meshes; a run outside its mesh is a reader's bug, dropped all the same.
+  std::erase_if(model.objectRuns, [&](ObjectRun& r) {
+    if (r.mesh >= keptAs.size() || keptAs[r.mesh] == 0xffffffffu) return true;
+    r.mesh = keptAs[r.mesh];
+    const std::size_t tris = model.meshes[r.mesh].triangleCount();
+    return r.firstTriangle > tris || r.triangleCount > tris - r.firstTriangle;
+  });
   if (model.meshes.empty()) return fileError(path, "mesh has no triangles");
   return Ok{};
 }

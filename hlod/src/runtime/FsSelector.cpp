@@ -74,7 +74,7 @@ Selection FsSelector::select(const View& view, const Residency& residency) {
     if (std::isfinite(value)) heap.push({value, n});
   };
 
-  for (std::uint32_t r : skeleton_.roots) {
+  for (std::uint32_t r : candidateRoots(view, s)) {
     if (r >= nodes.size()) continue;
     visit(r);
     if (!visibleOf[r]) continue;

@@ -21,7 +21,7 @@ Selection FullSelector::select(const View& view, const Residency& residency) {
   };
 
   std::vector<std::uint32_t> queue;
-  for (std::uint32_t r : skeleton_.roots) {
+  for (std::uint32_t r : candidateRoots(view, s)) {
     if (r < nodes.size() && visit(r)) queue.push_back(r);
   }
   walkFront(

@@ -175,7 +175,7 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
   const double aim = params_.lakhia.c_aim;
   aimMs_ = s.drawBudgetMs * std::clamp(finiteOr(aim, 1.0), 0.1, 1.0);
   std::vector<std::uint32_t> visible;
-  for (std::uint32_t r : skeleton_.roots) {
+  for (std::uint32_t r : candidateRoots(view, s)) {
     if (r < nodes.size() && visit(r)) visible.push_back(r);
   }
   sliceSiblings(visible, aimMs_);

@@ -56,6 +56,7 @@ Selector::Selector(const Skeleton& skeleton, const SelectorParams& params)
                 params.lakhia.feedbackMaxRatio, params.lakhia.feedbackJumpRatio),
       steadyFeedback_(params.lakhia.vTimeInitial, params.lakhia.c_fillGain,
                       params.lakhia.feedbackMaxRatio, params.lakhia.feedbackJumpRatio),
+      culling_(skeleton),
       drawnFrame_(skeleton.nodes.size(), kNever),
       drawnBefore_(skeleton.nodes.size(), kNever),
       refinedFrame_(skeleton.nodes.size(), kNever),
@@ -90,6 +91,13 @@ Selection Selector::beginFrame(const View& view) {
   fogCullDistance_ = view.fogCullDistance > 0.0 ? view.fogCullDistance : 0.0;
   s.nodesDrawnPerLevel.assign(skeleton_.nodes.empty() ? 0 : maxLevel_ + 1, 0);
   return s;
+}
+
+const std::vector<std::uint32_t>& Selector::candidateRoots(const View& view, Selection& s) {
+  if (!params_.quadtreeCulling) return skeleton_.roots;
+  s.quadtree =
+      culling_.candidateRoots(view.camera.frustum(), params_.lakhia.c_visFalloff, candidates_);
+  return candidates_;
 }
 
 bool Selector::fullyFogged(std::uint32_t node) const {

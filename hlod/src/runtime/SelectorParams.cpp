@@ -43,7 +43,7 @@ constexpr Named kLakhiaDoubles[] = {
 std::string selectorParamNames() {
   std::string names;
   for (const Named& n : kLakhiaDoubles) names += std::string(n.name) + ' ';
-  return names + "c_hystRefine ssePixels";
+  return names + "c_hystRefine ssePixels quadtreeCulling";
 }
 
 Status setSelectorParam(SelectorParams& params, std::string_view name, double value) {
@@ -52,6 +52,11 @@ Status setSelectorParam(SelectorParams& params, std::string_view name, double va
   if (name == "ssePixels") {
     if (!(value > 0.0)) return makeError("parameter ssePixels: must be above 0");
     params.ssePixels = value;
+    return Ok{};
+  }
+  if (name == "quadtreeCulling") {
+    if (value != 0.0 && value != 1.0) return makeError("parameter quadtreeCulling: must be 0 or 1");
+    params.quadtreeCulling = value == 1.0;
     return Ok{};
   }
   if (name == "c_hystRefine") {

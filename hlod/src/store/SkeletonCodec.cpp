@@ -1,4 +1,5 @@
 // skeleton.bin encoding and checked decoding (format in hlod/store/NodeStore.h).
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -75,6 +76,35 @@ bool getNode(store::ByteReader& r, NodeInfo& n) {
          r.get(n.textureChecksum) && r.get(n.textureBytes);
 }
 
+void putQuadtree(store::ByteWriter& w, const BlockQuadtree& q) {
+  w.put(static_cast<std::uint32_t>(q.domain));
+  w.put(q.rect.minU);
+  w.put(q.rect.minV);
+  w.put(q.rect.maxU);
+  w.put(q.rect.maxV);
+  w.put(q.depth);
+  w.put(std::uint32_t(q.cells.size()));
+  w.put(std::uint32_t(q.blocks.size()));
+  for (const QuadCell& c : q.cells) {
+    w.put(c.level);
+    w.put(c.x);
+    w.put(c.y);
+    w.put(c.firstChild);
+    w.put(c.childCount);
+    w.put(c.firstBlock);
+    w.put(c.blockCount);
+    w.put(c.bounds.min);
+    w.put(c.bounds.max);
+  }
+  for (const QuadBlock& b : q.blocks) {
+    w.put(b.root);
+    w.put(b.anchor);
+  }
+}
+
+constexpr std::size_t kQuadCellRecordSize = 7 * 4 + 6 * 8;
+constexpr std::size_t kQuadBlockRecordSize = 4 + 2 * 8;
+
 constexpr std::size_t kNodeRecordSize =
     5 * 4 + 9 * 8 + 4 * 4 + 2 * 8 + 3 * 4 + 8 + 2 * 8 + 4 + 8 + 8 + 8 + 4 + 8;
 
@@ -84,6 +114,104 @@ bool finite3(const glm::dvec3& v) {
 
 Error bad(const std::string& what) {
   return makeError("corrupt skeleton.bin: " + what);
+}
+
+bool contains(const Aabb& outer, const Aabb& inner) {
+  return inner.empty() || (!outer.empty() && glm::all(glm::lessThanEqual(outer.min, inner.min)) &&
+                           glm::all(glm::lessThanEqual(inner.max, outer.max)));
+}
+
+// The block quadtree after the root list. Culling trusts it to hide nothing: every root once,
+// in the leaf cell its anchor falls in, each cell's box holding its blocks' and children's.
+Status decodeQuadtree(store::ByteReader& r, Skeleton& s) {
+  BlockQuadtree& q = s.quadtree;
+  std::uint32_t domain = 0, cellCount = 0, blockCount = 0;
+  if (!r.get(domain) || !r.get(q.rect.minU) || !r.get(q.rect.minV) || !r.get(q.rect.maxU) ||
+      !r.get(q.rect.maxV) || !r.get(q.depth) || !r.get(cellCount) || !r.get(blockCount))
+    return bad("truncated quadtree header");
+  if (domain > 2) return bad("quadtree domain " + std::to_string(domain) + " is not 0, 1 or 2");
+  q.domain = static_cast<QuadtreeDomain>(domain);
+  if (std::uint64_t(cellCount) * kQuadCellRecordSize +
+          std::uint64_t(blockCount) * kQuadBlockRecordSize !=
+      r.remaining())
+    return bad("quadtree cell and block counts do not match the file size");
+  if (q.domain == QuadtreeDomain::None) {
+    if (cellCount || blockCount) return bad("quadtree without a domain has cells");
+    return Ok{};
+  }
+  if (q.depth > kMaxQuadtreeDepth) return bad("quadtree deeper than 30 levels");
+  if (q.domain == QuadtreeDomain::Geographic && !(q.rect == kWholeGlobe))
+    return bad("geographic quadtree does not cover the globe");
+  if (!std::isfinite(q.rect.minU) || !std::isfinite(q.rect.minV) ||
+      !std::isfinite(q.rect.maxU - q.rect.minU) || !std::isfinite(q.rect.maxV - q.rect.minV) ||
+      !(q.rect.maxU > q.rect.minU) || !(q.rect.maxV > q.rect.minV))
+    return bad("quadtree rectangle is not a finite, non-empty rectangle");
+  if (cellCount == 0 || blockCount != s.roots.size())
+    return bad("quadtree does not hold one block per root");
+  q.cells.resize(cellCount);
+  for (QuadCell& c : q.cells)
+    if (!r.get(c.level) || !r.get(c.x) || !r.get(c.y) || !r.get(c.firstChild) ||
+        !r.get(c.childCount) || !r.get(c.firstBlock) || !r.get(c.blockCount) ||
+        !r.get(c.bounds.min) || !r.get(c.bounds.max))
+      return bad("truncated quadtree cells");
+  q.blocks.resize(blockCount);
+  for (QuadBlock& b : q.blocks)
+    if (!r.get(b.root) || !r.get(b.anchor)) return bad("truncated quadtree blocks");
+
+  // The tree: the root at level 0, each other cell the child of exactly one cell before it,
+  // in one quadrant of it; leaves at `depth` with blocks, inner cells without.
+  if (q.cells[0].level != 0 || q.cells[0].x != 0 || q.cells[0].y != 0)
+    return bad("quadtree root is not cell (0, 0) at level 0");
+  std::vector<std::uint8_t> owned(cellCount, 0), placed(blockCount, 0);
+  for (std::uint32_t i = 0; i < cellCount; ++i) {
+    const QuadCell& c = q.cells[i];
+    const std::string name = "quadtree cell " + std::to_string(i);
+    if (i > 0 && !owned[i]) return bad(name + " has no parent");
+    if (c.level > q.depth || (c.level < 32 && (c.x >> c.level || c.y >> c.level)))
+      return bad(name + " lies outside its level");
+    if (c.bounds.empty() || !finite3(c.bounds.min) || !finite3(c.bounds.max))
+      return bad(name + " has no finite box");
+    if (c.childCount > 0) {
+      if (c.blockCount > 0 || c.childCount > 4 || c.firstChild <= i || c.firstChild > cellCount ||
+          c.childCount > cellCount - c.firstChild)
+        return bad(name + " has children out of range");
+      for (std::uint32_t k = c.firstChild; k < c.firstChild + c.childCount; ++k) {
+        const QuadCell& child = q.cells[k];
+        if (owned[k]++ || child.level != c.level + 1 || child.x >> 1 != c.x ||
+            child.y >> 1 != c.y ||
+            (k > c.firstChild && (child.y & 1) * 2 + (child.x & 1) <=
+                                     (q.cells[k - 1].y & 1) * 2 + (q.cells[k - 1].x & 1)))
+          return bad(name + " has a child outside its quadrants");
+        if (!contains(c.bounds, child.bounds)) return bad(name + " box misses a child's");
+      }
+      continue;
+    }
+    if (c.level != q.depth || c.blockCount == 0 || c.firstBlock > blockCount ||
+        c.blockCount > blockCount - c.firstBlock)
+      return bad(name + " is a leaf without blocks at the quadtree's depth");
+    for (std::uint32_t k = c.firstBlock; k < c.firstBlock + c.blockCount; ++k) {
+      const QuadBlock& b = q.blocks[k];
+      if (placed[k]++) return bad("quadtree block " + std::to_string(k) + " is in two cells");
+      if (!std::isfinite(b.anchor.x) || !std::isfinite(b.anchor.y) || b.anchor.x < q.rect.minU ||
+          b.anchor.x > q.rect.maxU || b.anchor.y < q.rect.minV || b.anchor.y > q.rect.maxV ||
+          quadCellAt(q.rect, q.depth, b.anchor) != glm::uvec2(c.x, c.y))
+        return bad("quadtree block " + std::to_string(k) + " is not in its anchor's cell");
+      const auto at = std::lower_bound(s.roots.begin(), s.roots.end(), b.root);
+      if (at == s.roots.end() || *at != b.root)
+        return bad("quadtree block " + std::to_string(k) + " is not a root");
+      const Aabb& box = s.nodes[b.root].bounds;
+      if (box.empty() || !contains(c.bounds, box)) return bad(name + " box misses a block's");
+    }
+  }
+  // Every block in a cell, no root twice: then every root once (as many blocks as roots).
+  if (std::find(placed.begin(), placed.end(), 0) != placed.end())
+    return bad("quadtree block in no cell");
+  std::vector<std::uint32_t> roots;
+  for (const QuadBlock& b : q.blocks) roots.push_back(b.root);
+  std::sort(roots.begin(), roots.end());
+  if (std::adjacent_find(roots.begin(), roots.end()) != roots.end())
+    return bad("quadtree holds a root twice");
+  return Ok{};
 }
 
 }  // namespace
@@ -109,6 +237,7 @@ std::vector<std::byte> encodeSkeleton(const Skeleton& s, const StoreFacts& facts
   w.put(std::uint32_t(s.roots.size()));
   for (const auto& n : s.nodes) putNode(w, n);
   for (std::uint32_t r : s.roots) w.put(r);
+  putQuadtree(w, s.quadtree);
   w.put(store::fnv1a64(w.bytes));
   return std::move(w.bytes);
 }
@@ -173,7 +302,7 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
     return bad("build parameter c_tex is not in [0, 1]");
   if (!(out.facts.buildSeconds >= 0.0 && std::isfinite(out.facts.buildSeconds)))
     return bad("build time is not a finite number of seconds");
-  if (std::uint64_t(nodeCount) * kNodeRecordSize + std::uint64_t(rootCount) * 4 != r.remaining())
+  if (std::uint64_t(nodeCount) * kNodeRecordSize + std::uint64_t(rootCount) * 4 > r.remaining())
     return bad("node count does not match the file size");
   if (rootCount > nodeCount) return bad("more roots than nodes");
   s.nodes.resize(nodeCount);
@@ -232,6 +361,12 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
   if (parentless != rootCount) return bad("root list does not match the parentless nodes");
   for (std::uint32_t root : s.roots)
     if (root >= nodeCount || s.nodes[root].parent != kNoNode) return bad("bad root list");
+  // Ascending (as the builder writes them): no root twice, and the quadtree walk can hand the
+  // selectors its roots in this order by sorting them.
+  for (std::size_t i = 1; i < s.roots.size(); ++i)
+    if (s.roots[i] <= s.roots[i - 1]) return bad("root list is not in ascending order");
+  if (auto q = decodeQuadtree(r, s); !q) return q.error();
+  if (r.remaining() != 0) return bad("bytes after the quadtree");
   return out;
 }
 

@@ -22,14 +22,26 @@ namespace service::cmd {
 const char* const kBuildUsage =
     "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tris N]\n"
     "                   [--min-leaf-tris N] [--simplifier meshopt|openmesh|parry] [--c-tex X]\n"
-    "                   [--max-block-tri N] [--threads N]\n"
+    "                   [--max-block-tri N] [--block-size M] [--threads N]\n"
     "                   [--lod X] [--up x|y|z] [--quiet]\n"
     "\n"
     "Builds the HLOD node store (Lakhia et al. III-A/B) that `hlodr render` streams from disk.\n"
-    "INPUT is a city folder (with city.json; blocks are loaded one at a time) or one or more\n"
-    "mesh files (OBJ, PLY, OFF, STL, glTF/GLB, CityJSON), whose meshes are grouped by material\n"
-    "(CityJSON: by colour, see README) and cut into blocks of at most --max-block-tri\n"
-    "triangles along their longest axis.\n"
+    "INPUT is a city folder (with city.json; blocks are loaded one at a time), a CityJSON file\n"
+    "or mesh files (OBJ, PLY, OFF, STL, glTF/GLB).\n"
+    "Blocks: a city folder's blocks are its own. A CityJSON model's buildings are grouped into\n"
+    "blocks by a square grid of --block-size metres over its x/y coordinates (cells at whole\n"
+    "multiples of it): each building whole in the cell its footprint centre (the centre of its\n"
+    "x-y box) lies in. A mesh file is one block. Each block is then grouped by material\n"
+    "(CityJSON: by colour, see README) and cut along its longest axis into pieces of at most\n"
+    "--max-block-tri triangles; each piece is one hlod_0 node.\n"
+    "Quadtree (Parry et al. sec. 3): each block is anchored at the latitude/longitude of its\n"
+    "centre (city folders: the manifest's anchors; CityJSON: through its CRS, geographic,\n"
+    "geocentric, RD New (EPSG:28992, 7415) or UTM (EPSG:326zz, 327zz, 258zz)) and inserted\n"
+    "into a quadtree over the globe whose smallest cells are about the median block's size;\n"
+    "without an anchor (mesh files, other CRSs) the quadtree covers the model's own x/y.\n"
+    "Frustum culling starts at its cells. Several city folders or geo-referenced CityJSON\n"
+    "files make one store of a region: all placed, through ECEF, in the first input's\n"
+    "east-north-up frame, in one quadtree; an input without an anchor cannot join them.\n"
     "Per block: hlod_0 is the block simplified to desiredTri triangles; each level down has\n"
     "levelFactor times more detail, divided into levelFactor pieces perpendicular to the\n"
     "longest dimension (each triangle whole to the piece its centre lies in), down to leaves\n"
@@ -52,7 +64,10 @@ const char* const kBuildUsage =
     "  --c-tex X            c_tex of the cost (eq. 1), 0..1; default: the value `hlodr\n"
     "                       calibrate` stored ($HLODR_CALIBRATION or\n"
     "                       ~/.config/hlodr/calibration.json), else 0.6\n"
-    "  --max-block-tri N    block size bound for mesh files (default 200000)\n"
+    "  --max-block-tri N    triangles per hlod_0 node's piece of a block, at most\n"
+    "                       (default 200000)\n"
+    "  --block-size M       CityJSON: the side of the grid cells that group buildings into\n"
+    "                       blocks, 1..100000 metres (default 100)\n"
     "  --threads N          blocks built at once, 1..256 (default: one per core); memory grows\n"
     "                       with the blocks in flight, the store is the same for any N\n"
     "  --lod X              CityJSON: the level of detail to import, as the file names it (1, 2,\n"
@@ -77,9 +92,10 @@ std::string formatSeconds(double s) {
 }  // namespace
 
 int runBuild(const Argv& argv) {
-  auto args = Args::parse(argv, {"quiet"},
-                          {"output", "level-factor", "desired-tris", "desired-tri", "simplifier",
-                           "c-tex", "max-block-tri", "lod", "up", "min-leaf-tris", "threads"});
+  auto args =
+      Args::parse(argv, {"quiet"},
+                  {"output", "level-factor", "desired-tris", "desired-tri", "simplifier", "c-tex",
+                   "max-block-tri", "lod", "up", "min-leaf-tris", "threads", "block-size"});
   if (!args) {
     std::fprintf(stderr, "hlodr build: %s\n%s", args.message().c_str(), kBuildUsage);
     return 2;
@@ -112,6 +128,12 @@ int runBuild(const Argv& argv) {
   options.minLeafTri = std::uint32_t(*minLeaf);
   options.threads = unsigned(*threads);
   options.maxBlockTriangles = std::size_t(*maxBlock);
+  const auto blockSize = args->number("block-size", hlod::kDefaultBlockSize, 1.0, 100000.0);
+  if (!blockSize) {
+    std::fprintf(stderr, "hlodr build: %s\n", blockSize.message().c_str());
+    return 2;
+  }
+  options.blockSize = *blockSize;
   options.simplifier = args->get("simplifier", "meshopt");
   if (options.simplifier != "meshopt" && options.simplifier != "openmesh" &&
       options.simplifier != "parry") {
@@ -162,43 +184,46 @@ int runBuild(const Argv& argv) {
   };
 
   const auto& inputs = args->positionals();
-  hlod::Result<hlod::Skeleton> built = hlod::makeError("no input");
-  if (inputs.size() == 1 && hlod::isCityFolder(inputs[0])) {
-    built = hlod::buildStoreFromCity(inputs[0], *out, options, progress);
-  } else {
-    hlod::Model model;
-    for (const auto& in : inputs) {
-      if (std::filesystem::is_directory(in)) {
-        std::fprintf(stderr, "hlodr build: %s is a folder without city.json\n", in.c_str());
-        return 1;
-      }
-      lines.update(0.0, "importing " + in);
-      hlod::ImportOptions importOptions;
-      importOptions.lod = args->get("lod", "");
-      auto m = hlod::importModel(in, importOptions);
-      if (!m) {
-        lines.done();
-        std::fprintf(stderr, "hlodr build: %s\n", m.message().c_str());
-        return 1;
-      }
-      if (!m->warnings.empty()) lines.done();
-      // Warnings show also with --quiet (which silences progress and the summary only).
-      for (const auto& w : m->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-      // The store has one up axis and one CRS: the first input's, and all must agree on up.
-      if (&in == &inputs.front()) {
-        model.zUp = m->zUp;
-        model.crs = m->crs;
-      } else if (m->zUp != model.zUp && !options.up) {
-        lines.done();
-        std::fprintf(stderr, "hlodr build: %s is %s-up but %s is %s-up; give --up to choose one\n",
-                     in.c_str(), hlod::upAxisName(hlod::upAxisOf(*m)), inputs.front().c_str(),
-                     hlod::upAxisName(hlod::upAxisOf(model)));
-        return 2;
-      }
-      for (auto& mesh : m->meshes) model.meshes.push_back(std::move(mesh));
+  std::vector<hlod::BuildInput> sources;
+  for (const auto& in : inputs) {
+    hlod::BuildInput source;
+    source.name = in;
+    if (hlod::isCityFolder(in)) {
+      source.cityDir = in;
+      sources.push_back(std::move(source));
+      continue;
     }
-    built = hlod::buildStoreFromModel(model, *out, options, progress);
+    if (std::filesystem::is_directory(in)) {
+      lines.done();
+      std::fprintf(stderr, "hlodr build: %s is a folder without city.json\n", in.c_str());
+      return 1;
+    }
+    lines.update(0.0, "importing " + in);
+    hlod::ImportOptions importOptions;
+    importOptions.lod = args->get("lod", "");
+    auto m = hlod::importModel(in, importOptions);
+    if (!m) {
+      lines.done();
+      std::fprintf(stderr, "hlodr build: %s\n", m.message().c_str());
+      return 1;
+    }
+    if (!m->warnings.empty()) lines.done();
+    // Warnings show also with --quiet (which silences progress and the summary only).
+    for (const auto& w : m->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    // The store has one up axis: all inputs must agree (city folders are z up).
+    const bool firstZUp = sources.empty() || sources.front().cityDir || sources.front().model.zUp;
+    if (!sources.empty() && m->zUp != firstZUp && !options.up) {
+      lines.done();
+      std::fprintf(stderr, "hlodr build: %s is %s-up but %s is %s-up; give --up to choose one\n",
+                   in.c_str(), hlod::upAxisName(hlod::upAxisOf(*m)), inputs.front().c_str(),
+                   firstZUp ? "z" : "y");
+      return 2;
+    }
+    source.model = std::move(*m);
+    sources.push_back(std::move(source));
   }
+  hlod::Result<hlod::Skeleton> built =
+      hlod::buildStoreFromInputs(std::move(sources), *out, options, progress);
   lines.done();
   if (!built) {
     std::fprintf(stderr, "hlodr build: %s\n", built.message().c_str());
@@ -213,15 +238,23 @@ int runBuild(const Argv& argv) {
         out->c_str(), built->nodes.size(), built->roots.size(), depth, options.levelFactor,
         options.desiredTri, options.simplifier.c_str(), options.cTex, cTexSource.c_str(),
         hlod::upAxisName(built->up));
+    const hlod::BlockQuadtree& q = built->quadtree;
+    const hlod::QuadtreeStats qs = hlod::quadtreeStats(q);
+    std::printf(
+        "quadtree: %s, depth %u, %zu cells, %zu blocks in %zu leaf cells (max %zu)\n",
+        q.domain == hlod::QuadtreeDomain::Geographic ? "latitude/longitude" : "the model's own x/y",
+        q.depth, qs.cells, qs.blocks, qs.leafCells, qs.maxBlocks);
     // ru_maxrss: kilobytes on Linux.
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("built in %s on %u threads: %.2f M input triangles/s, peak memory %.0f MB\n",
-                formatSeconds(seconds).c_str(),
-                options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency()),
-                seconds > 0 ? double(inputTriangles) / seconds / 1e6 : 0.0,
-                double(usage.ru_maxrss) / 1024.0);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf(
+        "built in %s on %u threads: %.2f M input triangles/s, peak memory %.0f MB\n",
+        formatSeconds(seconds).c_str(),
+        options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency()),
+        seconds > 0 ? double(inputTriangles) / seconds / 1e6 : 0.0,
+        double(usage.ru_maxrss) / 1024.0);
   }
   return 0;
 }

@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cmd/Commands.h"
+#include "hlod/builder/HlodBuilder.h"
+#include "hlod/city/GeoReference.h"
 #include "hlod/import/Import.h"
 #include "hlod/store/NodeStore.h"
 #include "service/Args.h"
@@ -17,19 +19,26 @@ namespace service::cmd {
 
 const char* const kInfoUsage =
     "usage: hlodr info STORE [--json]\n"
-    "       hlodr info MODEL [--lod X] [--json]\n"
+    "       hlodr info MODEL [--lod X] [--block-size M] [--json]\n"
     "\n"
     "Prints a node store's build parameters, up axis, coordinate reference system, block count,\n"
     "depth, payload bytes, the triangles per node (min, p10, median, p90, max over the leaves and\n"
-    "over all nodes), the leaf triangles against the input's, and nodes and triangles per level.\n"
+    "over all nodes), the leaf triangles against the input's, nodes and triangles per level, and\n"
+    "the block quadtree: over latitude/longitude or, for a model without a geographic anchor,\n"
+    "over its own x/y; its depth, cells, the smallest cell's size (degrees and about metres),\n"
+    "blocks per leaf cell (max, mean) and the blocks' latitude/longitude extent.\n"
     "Checks the skeleton (checksum, tree structure, model frame) on the way.\n"
     "For a model file (mesh, glTF, CityJSON) prints what `hlodr build` would import: format and\n"
     "version, coordinate reference system, city objects, the LoD chosen, meshes, triangles, and\n"
-    "the extent in the model's units (for data converted to east-north-up metres, the origin).\n"
+    "the extent in the model's units (for data converted to east-north-up metres, the origin),\n"
+    "and for CityJSON the blocks `hlodr build` would make and where they are anchored.\n"
     "\n"
     "options:\n"
-    "  --json   machine-readable output\n"
-    "  --lod X  CityJSON: the level of detail to import (default: each object at its highest)\n";
+    "  --json          machine-readable output\n"
+    "  --lod X         CityJSON: the level of detail to import (default: each object at its\n"
+    "                  highest)\n"
+    "  --block-size M  CityJSON: the block grid's side in metres, as for `hlodr build`\n"
+    "                  (default 100)\n";
 
 namespace {
 
@@ -101,6 +110,23 @@ int modelInfo(const std::string& file, const Args& args) {
   const glm::dvec3 size = b.size();
   const hlod::ModelCrs& crs = model->crs;
   const std::string format = formatOf(file, *model);
+  // The blocks `hlodr build` would make: grid blocks of buildings, each cut by colour and size.
+  const auto blockSize = args.number("block-size", hlod::kDefaultBlockSize, 1.0, 100000.0);
+  if (!blockSize) {
+    std::fprintf(stderr, "hlodr info: %s\n", blockSize.message().c_str());
+    return 2;
+  }
+  std::size_t blocks = 0, roots = 0;
+  if (!model->objectRuns.empty()) {
+    for (const auto& block : hlod::groupBuildingsIntoBlocks(*model, *blockSize)) {
+      ++blocks;
+      roots += hlod::cutIntoBlocks(block.model, hlod::kDefaultMaxBlockTriangles).size();
+    }
+  }
+  const hlod::GeoReference geo = hlod::GeoReference::of(crs);
+  const std::string anchors = geo.known()
+                                  ? "latitude/longitude through " + geo.describe()
+                                  : std::string("none (the quadtree covers the model's own x/y)");
   if (args.has("json")) {
     nlohmann::json j;
     j["model"] = file;
@@ -118,6 +144,10 @@ int modelInfo(const std::string& file, const Args& args) {
             {"lat", crs.originLat}, {"lon", crs.originLon}, {"height", crs.originHeight}};
       j["cityObjects"] = model->cityObjects;
       j["lod"] = model->lod;
+      j["blockSize"] = *blockSize;
+      j["blocks"] = blocks;
+      j["blockRoots"] = roots;
+      j["anchors"] = anchors;
     }
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
@@ -131,6 +161,9 @@ int modelInfo(const std::string& file, const Args& args) {
                   crs.originLon, crs.originHeight);
     std::printf("city objects  %zu\n", model->cityObjects);
     std::printf("LoD           %s\n", printable(model->lod).c_str());
+    std::printf("blocks        %zu of %g m (%zu hlod_0 nodes after the split by colour)\n", blocks,
+                *blockSize, roots);
+    std::printf("anchors       %s\n", anchors.c_str());
   }
   std::printf("meshes        %zu\n", model->meshes.size());
   for (const auto& m : model->meshes)
@@ -148,7 +181,7 @@ int modelInfo(const std::string& file, const Args& args) {
 }  // namespace
 
 int runInfo(const Argv& argv) {
-  auto args = Args::parse(argv, {"json"}, {"lod"});
+  auto args = Args::parse(argv, {"json"}, {"lod", "block-size"});
   if (!args) {
     std::fprintf(stderr, "hlodr info: %s\n%s", args.message().c_str(), kInfoUsage);
     return 2;
@@ -208,6 +241,12 @@ int runInfo(const Argv& argv) {
       f.inputTriangles > 0 ? double(leafTriangles) / double(f.inputTriangles) : 0.0;
   // The decoder let only printable ASCII through; printable() keeps that promise here too.
   const std::string crsText = printable(s.crs.description);
+  const hlod::BlockQuadtree& q = s.quadtree;
+  const hlod::QuadtreeStats qs = hlod::quadtreeStats(q);
+  const bool geographic = q.domain == hlod::QuadtreeDomain::Geographic;
+  const char* domain = geographic  ? "latitude/longitude (the globe at the root)"
+                       : q.empty() ? "none"
+                                   : "the model's own x/y (no geographic anchor)";
   if (args->has("json")) {
     nlohmann::json j;
     j["store"] = args->positionals()[0];
@@ -224,6 +263,23 @@ int runInfo(const Argv& argv) {
     if (s.crs.toEnu)
       j["crs"]["origin"] = {
           {"lat", s.crs.originLat}, {"lon", s.crs.originLon}, {"height", s.crs.originHeight}};
+    j["quadtree"] = {{"domain", geographic  ? "geographic"
+                                : q.empty() ? "none"
+                                            : "model"},
+                     {"depth", q.depth},
+                     {"cells", qs.cells},
+                     {"leafCells", qs.leafCells},
+                     {"blocks", qs.blocks},
+                     {"leafSize", {qs.leafSize.x, qs.leafSize.y}},
+                     {"blocksPerLeaf", {{"max", qs.maxBlocks}, {"mean", qs.meanBlocks}}},
+                     {"rootsPerLeaf", {{"max", qs.maxRoots}, {"mean", qs.meanRoots}}}};
+    if (geographic) {
+      j["quadtree"]["leafMetres"] = {qs.leafMetres.x, qs.leafMetres.y};
+      j["quadtree"]["extent"] = {{"minLat", qs.anchors.minV},
+                                 {"maxLat", qs.anchors.maxV},
+                                 {"minLon", qs.anchors.minU},
+                                 {"maxLon", qs.anchors.maxU}};
+    }
     j["inputTriangles"] = f.inputTriangles;
     j["leafTriangles"] = leafTriangles;
     j["leafToInputTriangles"] = leafRatio;
@@ -253,6 +309,19 @@ int runInfo(const Argv& argv) {
     std::printf("ENU origin    lat %.9f, lon %.9f, height %.3f m (WGS 84)\n", s.crs.originLat,
                 s.crs.originLon, s.crs.originHeight);
   std::printf("blocks        %u\n", f.blockCount);
+  std::printf("quadtree      %s, depth %u, %zu cells, %zu leaf cells\n", domain, q.depth, qs.cells,
+              qs.leafCells);
+  if (geographic)
+    std::printf("smallest cell %.6f x %.6f degrees (lon x lat), about %.0f x %.0f m\n",
+                qs.leafSize.x, qs.leafSize.y, qs.leafMetres.x, qs.leafMetres.y);
+  else if (!q.empty())
+    std::printf("smallest cell %.3f x %.3f (the model's units)\n", qs.leafSize.x, qs.leafSize.y);
+  if (!q.empty())
+    std::printf("blocks/cell   max %zu, mean %.2f (hlod_0 nodes: max %zu, mean %.2f)\n",
+                qs.maxBlocks, qs.meanBlocks, qs.maxRoots, qs.meanRoots);
+  if (geographic)
+    std::printf("lat/lon       %.6f .. %.6f, %.6f .. %.6f (%zu block anchors)\n", qs.anchors.minV,
+                qs.anchors.maxV, qs.anchors.minU, qs.anchors.maxU, qs.blocks);
   std::printf("nodes         %zu\n", s.nodes.size());
   std::printf("depth         %zu\n", depth);
   std::printf("triangles     %llu input, %llu at the leaves\n",
@@ -266,10 +335,11 @@ int runInfo(const Argv& argv) {
     all.textureStored += l.textureStored;
     all.textureBytes += l.textureBytes;
   }
-  std::printf("payload       %.2f MB stored (deflated; %.2f MB of it textures), %.2f MB decoded"
-              " (%.2f MB textures)\n",
-              double(f.payloadBytes) / 1e6, double(all.textureStored) / 1e6,
-              double(all.memoryBytes) / 1e6, double(all.textureBytes) / 1e6);
+  std::printf(
+      "payload       %.2f MB stored (deflated; %.2f MB of it textures), %.2f MB decoded"
+      " (%.2f MB textures)\n",
+      double(f.payloadBytes) / 1e6, double(all.textureStored) / 1e6, double(all.memoryBytes) / 1e6,
+      double(all.textureBytes) / 1e6);
   std::printf("\n  level     nodes    leaves     triangles   stored MB  decoded MB  texture MB\n");
   for (const auto& [d, l] : levels)
     std::printf("  %5u  %8zu  %8zu  %12llu  %10.2f  %10.2f  %10.2f\n", d, l.nodes, l.leaves,

@@ -7,11 +7,11 @@
 // longest dimension of its piece (equal widths) into levelFactor children, each simplified from
 // the original triangles of its piece with factor s / levelFactor; a slab of fewer than
 // minLeafTri triangles joins its neighbour (so a node may have fewer children). Every other node
-// is a leaf and holds its piece's original triangles. A triangle goes whole to the child its centroid lies in
-// (SlabPartition.h says why), so the leaves hold exactly the input's triangles, and the vertices a
-// piece shares with the rest of the model are locked while simplifying: neighbouring nodes meet
-// on the same chain of input edges at every level. Textures are cropped to the node's
-// texture-coordinate range and down-sampled by the same factor (side / sqrt(s), at least
+// is a leaf and holds its piece's original triangles. A triangle goes whole to the child its
+// centroid lies in (SlabPartition.h says why), so the leaves hold exactly the input's triangles,
+// and the vertices a piece shares with the rest of the model are locked while simplifying:
+// neighbouring nodes meet on the same chain of input edges at every level. Textures are cropped to
+// the node's texture-coordinate range and down-sampled by the same factor (side / sqrt(s), at least
 // kMinTextureSide pixels); where the crops of one level's nodes overlap, they share one texture,
 // stored once (kSharedTextureOverlap).
 //
@@ -27,7 +27,9 @@
 #include <string>
 #include <vector>
 
+#include "hlod/builder/CityBlocks.h"
 #include "hlod/builder/Simplifier.h"
+#include "hlod/city/Geodesy.h"
 #include "hlod/store/NodeStore.h"
 
 namespace hlod {
@@ -41,8 +43,9 @@ constexpr std::size_t kDefaultMaxBlockTriangles = 200000;
 constexpr std::uint32_t kDefaultDesiredTri = 800;
 constexpr int kMinTextureSide = 8;
 // A piece is divided only when its children would hold this many triangles on average, and each
-// child holds at least this many, so that hierarchies do not end in crumbs: with leaves of ~400 triangles (as when a node's factor alone
-// decided), a GPU pays a draw call per few hundred triangles and the leaves are mostly border.
+// child holds at least this many, so that hierarchies do not end in crumbs: with leaves of ~400
+// triangles (as when a node's factor alone decided), a GPU pays a draw call per few hundred
+// triangles and the leaves are mostly border.
 constexpr std::uint32_t kDefaultMinLeafTri = 2000;
 // c_tex used when neither --c-tex nor a calibration file gives one.
 constexpr double kDefaultCTex = 0.6;
@@ -66,6 +69,9 @@ struct BuildOptions {
   std::optional<UpAxis> up;
   // Blocks prepared at once (0: one per core). The store is the same for any count.
   unsigned threads = 0;
+  // The side of the grid that groups a CityJSON model's buildings into blocks (CityBlocks.h),
+  // in the model's units (metres).
+  double blockSize = kDefaultBlockSize;
 };
 
 // One node of a block's hierarchy, as built in memory (world coordinates, double).
@@ -141,6 +147,9 @@ struct PreparedBlock {
   // Per node: the earlier node of the block whose texture section it shares (kNoNode: its own).
   std::vector<std::uint32_t> textureOwner;
   std::uint64_t inputTriangles = 0;
+  // The block's geographic anchor (Parry sec. 3), when its input has one: where the quadtree
+  // places it.
+  std::optional<LatLon> anchor;
 };
 
 // Streams blocks into a node store at `dir` (written under a temporary name, renamed in finish).
@@ -160,8 +169,8 @@ class HlodBuilder {
   PreparedBlock prepareBlock(const Mesh& block, std::span<const glm::dvec3> seam = {},
                              std::span<const CutPlane> sides = {}) const;
   Status commitBlock(PreparedBlock&& block);
-  // Writes the skeleton and moves the store into place. An Error when no block added a node
-  // (nothing to draw): no empty store is written.
+  // Writes the skeleton, with the quadtree of the blocks (quadtreeOfRoots), and moves the store
+  // into place. An Error when no block added a node (nothing to draw): no empty store is written.
   Result<Skeleton> finish(double buildSeconds);
   const Skeleton& skeleton() const { return skeleton_; }
   std::uint64_t inputTriangles() const { return inputTriangles_; }
@@ -174,10 +183,40 @@ class HlodBuilder {
   Skeleton skeleton_;
   std::uint64_t inputTriangles_ = 0;
   std::uint32_t blockCount_ = 0;
+  std::vector<std::optional<LatLon>> anchors_;  // per root
 };
 
-// Builds a store from a model in memory (cut into blocks first); its up axis is options.up or
-// else upAxisOf(model), its CRS model.crs.
+// The quadtree of a skeleton's roots (Parry sec. 3). When every root has a geographic anchor:
+// over the globe, each root in the cell of its (longitude, latitude). Otherwise over the model's
+// own horizontal coordinates (the two axes across `up`), each root at its box's centre, in a
+// square around them. Depth: quadtreeDepthFor(the root rectangle's v side in metres or model
+// units, the median block's larger horizontal side), a block being the roots that share an
+// anchor (one block split by material or size), or each root without anchors.
+BlockQuadtree quadtreeOfRoots(const Skeleton& skeleton,
+                              std::span<const std::optional<LatLon>> anchors);
+
+// One input of a build: a city folder (its blocks loaded one at a time) or an imported model.
+struct BuildInput {
+  std::string name;  // as the user gave it, for messages
+  std::optional<std::filesystem::path> cityDir;
+  Model model;  // when not a city folder
+};
+
+// Builds one store from several inputs: a region of cities in one quadtree. With more than one
+// input and any of them geo-referenced (a city folder, a CityJSON with a geographic, geocentric,
+// RD New or UTM CRS), every input must be: all are placed, through ECEF in double precision, in
+// the east-north-up frame of the first (a projected first input: the ENU frame at its centre),
+// and an input without a geographic anchor is an Error naming it. Inputs without any anchor
+// (mesh files) are joined as they are. Models are grouped into blocks (groupBuildingsIntoBlocks)
+// and cut by material and maxBlockTriangles; city blocks are cut by maxBlockTriangles.
+Result<Skeleton> buildStoreFromInputs(std::vector<BuildInput> inputs,
+                                      const std::filesystem::path& dir, const BuildOptions& options,
+                                      const BuildProgressFn& progress = {});
+
+// Builds a store from a model in memory: its buildings grouped into blocks of options.blockSize
+// (a model without city objects is one), each cut by material and maxBlockTriangles; its up
+// axis is options.up or else upAxisOf(model), its CRS model.crs; blocks are anchored through
+// GeoReference::of(model.crs) when it is known.
 Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::path& dir,
                                      const BuildOptions& options,
                                      const BuildProgressFn& progress = {});

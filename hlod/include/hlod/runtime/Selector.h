@@ -22,6 +22,7 @@
 
 #include "hlod/Result.h"
 #include "hlod/runtime/Camera.h"
+#include "hlod/runtime/QuadtreeCulling.h"
 #include "hlod/store/Skeleton.h"
 
 namespace hlod {
@@ -80,6 +81,7 @@ struct Selection {
   std::uint32_t coarserBecauseNotResident = 0;    // drawn coarser: a visible child not resident
   std::vector<std::uint32_t> nodesDrawnPerLevel;  // index = level d of hlod_d
   std::uint64_t triangles = 0;                    // sum of numTri of the front
+  QuadtreeWalk quadtree;  // the cells the culling walk tested and skipped (QuadtreeCulling)
 };
 
 // The paper's constants (Lakhia III-C) plus the few this implementation adds; all documented.
@@ -155,6 +157,9 @@ struct LakhiaParams {
 struct SelectorParams {
   LakhiaParams lakhia;      // budget, v_time loop and the priority terms shared by all selectors
   double ssePixels = 16.0;  // SseSelector: refine while projected geometricError exceeds this
+  // Frustum culling starts at the block quadtree (QuadtreeCulling): the same fronts, fewer roots
+  // looked at. Off: every root is evaluated (for comparison; `--params quadtreeCulling=0`).
+  bool quadtreeCulling = true;
 };
 
 // Sets one constant by its name in the code (c_aim, c_fillAdd, feedbackGain, ssePixels, ...;
@@ -238,6 +243,10 @@ class Selector {
   // The inverse: a node refined this frame whose children are all drawn (none refined further)
   // is drawn instead of them. Call finishFrame again afterwards.
   void replaceByParent(std::uint32_t node, Selection& s);
+  // The block roots to look at this frame, in Skeleton::roots order: those of the quadtree
+  // cells within c_visFalloff of the frustum (QuadtreeCulling; every root with quadtreeCulling
+  // off). Every root left out is invisible with frustumVis 0. Records the walk in s.quadtree.
+  const std::vector<std::uint32_t>& candidateRoots(const View& view, Selection& s);
   // The node's box lies wholly beyond View::fogCullDistance of this frame.
   bool fullyFogged(std::uint32_t node) const;
   bool refinedThisFrame(std::uint32_t node) const { return refinedFrame_[node] == frame_; }
@@ -304,6 +313,8 @@ class Selector {
   static constexpr std::uint32_t kNever = 0xffffffffu;
   VTimeFeedback feedback_;
   VTimeFeedback steadyFeedback_;
+  QuadtreeCulling culling_;
+  std::vector<std::uint32_t> candidates_;
   glm::dvec3 fogEye_{0.0};
   double fogCullDistance_ = std::numeric_limits<double>::infinity();
   double lastEstimatedCost_ = 0.0;

@@ -7,10 +7,13 @@
 //   skeleton.bin: "HLODSKEL", u32 version, u32 0x01020304, build params, store facts, the model
 //     frame (u32 up axis 0/1/2 for x/y/z, i32 EPSG code, u32 toEnu 0/1, f64 origin lat, lon,
 //     height, u32 n, n bytes of printable ASCII CRS description, n <= kMaxCrsDescription),
-//     node records, root list, then a 64-bit FNV-1a of all preceding bytes. Version 4 added the
+//     node records, root list (ascending), the block quadtree (u32 domain 0/1/2, f64 rect minU,
+//     minV, maxU, maxV, u32 depth, u32 cell count, u32 block count; per cell u32 level, x, y,
+//     firstChild, childCount, firstBlock, blockCount, f64 box min[3], max[3]; per block u32
+//     root, f64 anchor u, v), then a 64-bit FNV-1a of all preceding bytes. Version 4 added the
 //     model frame, version 5 the texture section's offset (NodeInfo::textureOffset), version 6
-//     the progression's and the splats' counts (NodeInfo::minTri, splatCount); other
-//     versions are refused with "rebuild it" (stores are derived data).
+//     the block quadtree and the progression's and the splats' counts (NodeInfo::minTri,
+//     splatCount); other versions are refused with "rebuild it" (stores are derived data).
 //   payload: u32 "HLPL", u32 version, u32 vertexCount, u32 indexCount, u32 flags (1: texCoords,
 //     2: one-sided, 4: progression, 8: splats), u32 texWidth, u32 texHeight, f32 baseColor[4], f32
 //     positions[3 vc] (relative to the node's centre), f32 normals[3 vc], f32 texCoords[2 vc] (if
@@ -71,8 +74,8 @@ Result<std::vector<std::byte>> inflatePayload(std::span<const std::byte> stored,
 // without one), and their inflated sizes. Thread-safe: the builder prepares blocks in parallel.
 struct StoredPayload {
   std::vector<std::byte> mesh, texture;  // texture: empty for a node sharing another's
-  std::uint64_t memoryBytes = 0;   // NodeInfo::memoryBytes
-  std::uint64_t textureBytes = 0;  // NodeInfo::textureBytes
+  std::uint64_t memoryBytes = 0;         // NodeInfo::memoryBytes
+  std::uint64_t textureBytes = 0;        // NodeInfo::textureBytes
 };
 // withTexture false: the texture section is left out (the node shares one stored elsewhere), but
 // memoryBytes and textureBytes count its pixels.
@@ -81,7 +84,10 @@ StoredPayload storePayload(const LocalMesh& mesh, bool withTexture = true);
 // skeleton.bin encoding; decoding verifies the checksum, the tree's structure and the build
 // parameters. A decoded skeleton guarantees what the rest of hlodr asserts: children
 // [firstChild, firstChild + childCount) lie after their parent and inside nodes, each child's
-// parent and level agree with it, roots are exactly the parentless nodes, payloads lie inside
+// parent and level agree with it, roots are exactly the parentless nodes in ascending order,
+// a quadtree (when there is one) holds every root exactly once, each in the leaf cell (at its
+// depth) that quadCellAt gives for its anchor, each cell's box holding its blocks' hlod_0 boxes
+// and its children's, children one quadrant each of their parent; payloads lie inside
 // payload.bin, every double is finite, levelFactor is in [2, 64], c_tex in [0, 1], desiredTri
 // at least 1, the build time finite and not negative, the up axis x, y or z, and the CRS
 // description printable ASCII (the encoder replaces other bytes by '?' and cuts it to

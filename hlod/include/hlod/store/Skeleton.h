@@ -9,6 +9,7 @@
 
 #include "hlod/Mesh.h"
 #include "hlod/UpAxis.h"
+#include "hlod/city/BlockQuadtree.h"
 
 namespace hlod {
 
@@ -64,6 +65,10 @@ struct Skeleton {
   // the runtime). Z up by default: a city folder's blocks are metres with Z up.
   UpAxis up = UpAxis::Z;
   ModelCrs crs;
+  // The blocks' roots by their latitude/longitude anchors (Parry sec. 3): a culling structure on
+  // top of roots, which stay the hlod_0 nodes. Empty for a skeleton made without one (every
+  // root is then visited); a built store always has one, holding every root once.
+  BlockQuadtree quadtree;
 
   bool isLeaf(std::uint32_t n) const { return nodes[n].childCount == 0; }
 };
