@@ -151,10 +151,10 @@ QuadtreeStats quadtreeStats(const BlockQuadtree& tree) {
   }
   if (tree.domain == QuadtreeDomain::Geographic && !tree.blocks.empty()) {
     // A degree along a parallel and along a meridian at the mean latitude (WGS 84).
-    const double lat = latSum / double(tree.blocks.size()) * 0.017453292519943295;
+    const double lat = latSum / double(tree.blocks.size()) * kRadPerDeg;
     const double w = 1.0 - kWgs84E2 * std::sin(lat) * std::sin(lat);
-    const double east = kWgs84A * std::cos(lat) / std::sqrt(w) * 0.017453292519943295;
-    const double north = kWgs84A * (1.0 - kWgs84E2) / (w * std::sqrt(w)) * 0.017453292519943295;
+    const double east = kWgs84A * std::cos(lat) / std::sqrt(w) * kRadPerDeg;
+    const double north = kWgs84A * (1.0 - kWgs84E2) / (w * std::sqrt(w)) * kRadPerDeg;
     st.leafMetres = {st.leafSize.x * east, st.leafSize.y * north};
   }
   return st;

@@ -7,8 +7,6 @@ namespace hlod {
 
 namespace {
 
-constexpr double kRadPerDeg = 0.017453292519943295;
-
 // N, the prime vertical radius of curvature at a latitude with sine s.
 double primeVerticalRadius(double s) {
   return kWgs84A / std::sqrt(1.0 - kWgs84E2 * s * s);

@@ -10,7 +10,6 @@ namespace hlod {
 
 namespace {
 
-constexpr double kRadPerDeg = 0.017453292519943295;
 constexpr double kK0 = 0.9996;  // UTM's scale on the central meridian
 constexpr double kFalseEasting = 500000.0;
 constexpr double kFalseNorthingSouth = 10000000.0;

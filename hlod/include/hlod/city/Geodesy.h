@@ -14,6 +14,7 @@
 namespace hlod {
 
 // WGS84 (NIMA TR8350.2): semi-major axis and flattening; the rest follows from them.
+inline constexpr double kRadPerDeg = 0.017453292519943295;  // pi / 180
 inline constexpr double kWgs84A = 6378137.0;
 inline constexpr double kWgs84F = 1.0 / 298.257223563;
 inline constexpr double kWgs84B = kWgs84A * (1.0 - kWgs84F);   // semi-minor axis, 6356752.3142 m
