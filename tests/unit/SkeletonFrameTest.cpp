@@ -9,9 +9,11 @@
 
 #include "BuildTestMeshes.h"
 #include "hlod/builder/HlodBuilder.h"
+#include "StoreBytes.h"
 #include "hlod/store/NodeStore.h"
 
 using namespace hlod;
+using hlod::test::fixChecksum;
 namespace fs = std::filesystem;
 
 namespace {
@@ -45,16 +47,6 @@ StoreFacts oneNodeFacts() {
 // the simplifier name, input triangles, block count, build seconds, payload bytes.
 std::size_t upOffset(const Skeleton& s) {
   return 8 + 4 + 4 + 8 + 4 + 8 + 4 + s.params.simplifier.size() + 8 + 4 + 8 + 8;
-}
-
-// Rewrites the trailing FNV-1a 64 so that a forged field gets past the checksum.
-void fixChecksum(std::vector<std::byte>& bytes) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (std::size_t i = 0; i + 8 < bytes.size(); ++i) {
-    h ^= std::uint64_t(bytes[i]);
-    h *= 1099511628211ull;
-  }
-  std::memcpy(bytes.data() + bytes.size() - 8, &h, 8);
 }
 
 void putU32(std::vector<std::byte>& bytes, std::size_t at, std::uint32_t v) {

@@ -10,9 +10,11 @@
 
 #include "RuntimeTestScene.h"
 #include "hlod/builder/HlodBuilder.h"
+#include "StoreBytes.h"
 #include "hlod/store/NodeStore.h"
 
 using namespace hlod;
+using hlod::test::fixChecksum;
 
 namespace {
 
@@ -36,13 +38,6 @@ StoreFacts factsOf(const Skeleton& s) {
   for (const NodeInfo& n : s.nodes)
     f.payloadBytes = std::max(f.payloadBytes, n.payloadOffset + n.payloadSize);
   return f;
-}
-
-void fixChecksum(std::vector<std::byte>& bytes) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (std::size_t i = 0; i + 8 < bytes.size(); ++i)
-    h = (h ^ std::uint64_t(bytes[i])) * 1099511628211ull;
-  std::memcpy(bytes.data() + bytes.size() - 8, &h, 8);
 }
 
 // Where the quadtree section starts: its size counted back from the checksum.
