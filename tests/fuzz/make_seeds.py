@@ -151,10 +151,12 @@ put("glb", "nodes.glb", glb(doc, buf))
 # --- skeleton.bin (format in hlod/include/hlod/NodeStore.h; the target fixes the checksum) ---
 
 
-def node(parent, first, count, level, payload_off, payload_size, memory):
+def node(parent, first, count, level, payload_off, payload_size, memory, min_tri=0, splats=0):
     b = struct.pack("<5I", parent, first, count, level, 0)
     b += struct.pack("<9d", -1, -1, 0, 1, 1, 2, 0, 0, 1)  # bounds min, max, centre
-    b += struct.pack("<2I", 12, 0) + struct.pack("<2d", 1.5, 3.0) + struct.pack("<3f", 0, 0, 1)
+    # numTri, numTexTri, minTri (0: no progression), splatCount
+    b += struct.pack("<4I", 12, 0, min_tri, splats)
+    b += struct.pack("<2d", 1.5, 3.0) + struct.pack("<3f", 0, 0, 1)
     b += struct.pack("<d", 0.25) + struct.pack("<2Q", payload_off, payload_size)
     b += struct.pack("<I", 0x12345678) + struct.pack("<Q", memory)
     b += struct.pack("<QQIQ", 0, 0, 0, 0)  # no texture section (offset, size, checksum, bytes)
@@ -193,7 +195,8 @@ NO = 0xFFFFFFFF
 put("skeleton", "one-node.bin", skeleton([node(NO, 0, 0, 0, 0, 100, 400)], [0], 100))
 put("skeleton", "tree.bin", skeleton(
     [node(NO, 2, 2, 0, 0, 100, 400), node(NO, 0, 0, 0, 100, 50, 200),
-     node(0, 0, 0, 1, 150, 60, 300), node(0, 4, 1, 1, 210, 70, 300), node(3, 0, 0, 2, 280, 20, 80)],
+     node(0, 0, 0, 1, 150, 60, 300, min_tri=4, splats=64), node(0, 4, 1, 1, 210, 70, 300),
+     node(3, 0, 0, 2, 280, 20, 80)],
     [0, 1], 300, name=b"openmesh",
     model_frame=frame(2, 4979, 1, (51.9, 4.46, 2.0), b"EPSG:4979 (geographic): converted to east-north-up metres"),
     # Both blocks at 51.9 N 4.46 E in a geographic quadtree of depth 2: cell (2, 3) at level 2.
@@ -208,15 +211,27 @@ put("skeleton", "y-up.bin", skeleton([node(NO, 0, 0, 0, 0, 100, 400)], [0], 100,
 
 
 # --- node payloads: the raw form, and "u32 decoded size + raw DEFLATE" as payload.bin holds it ---
-def payload(vc_positions, indices, uv=False, tex=(0, 0), flags=0):
+def payload(vc_positions, indices, uv=False, tex=(0, 0), flags=0, version=3, progression=None,
+            splats=()):
+    """Format 3 (hlod/src/store/PayloadCodec.cpp); flags 1 texture coordinates, 2 one-sided,
+    4 progression (moves as pairs, moveEnd, increments), 8 splats (position, radius, normal, uv)."""
     vc = len(vc_positions)
-    b = struct.pack("<7I", 0x4C504C48, 1, vc, len(indices), flags | (1 if uv else 0), *tex)
+    flags |= (1 if uv else 0) | (4 if progression else 0) | (8 if splats else 0)
+    b = struct.pack("<7I", 0x4C504C48, version, vc, len(indices), flags, *tex)
     b += struct.pack("<4f", 1, 0.5, 0.25, 1)
     b += b"".join(struct.pack("<3f", *p) for p in vc_positions)
     b += b"".join(struct.pack("<3f", 0, 0, 1) for _ in vc_positions)
     if uv:
         b += b"".join(struct.pack("<2f", p[0], p[1]) for p in vc_positions)
     b += b"".join(struct.pack("<I", i) for i in indices)
+    if progression:
+        moves, move_end, increments = progression
+        b += struct.pack("<2I", len(increments), len(moves))
+        b += b"".join(struct.pack("<2I", *m) for m in moves)
+        b += b"".join(struct.pack("<I", e) for e in move_end)
+        b += b"".join(struct.pack("<I", i) for i in increments)
+    if splats:
+        b += struct.pack("<I", len(splats)) + b"".join(struct.pack("<9f", *sp) for sp in splats)
     b += bytes(range(4 * tex[0] * tex[1]))
     return b
 
@@ -231,6 +246,12 @@ quad = tri + [(1, 1, 0)]
 put("payload", "raw-triangle.bin", payload(tri, [0, 1, 2]))
 put("payload", "raw-textured.bin", payload(quad, [0, 1, 2, 1, 3, 2], uv=True, tex=(2, 2), flags=2))
 put("payload", "deflated-triangle.bin", deflated(payload(tri, [0, 1, 2])))
+put("payload", "format2-triangle.bin", payload(tri, [0, 1, 2], version=2))
+# A quad whose progression moves vertex 3 into a new vertex 4 (drops the last triangle), with two
+# splats.
+put("payload", "progression-splats.bin", payload(
+    quad + [(0.5, 0.5, 0)], [0, 1, 2, 1, 3, 2], progression=([(3, 4)], [1], [1]),
+    splats=[(0, 0, 0, 0.5, 0, 0, 1, 0, 0), (1, 1, 0, 0.5, 0, 0, 1, 1, 1)]))
 put("payload", "deflated-textured.bin", deflated(payload(quad, [0, 1, 2, 1, 3, 2], uv=True, tex=(4, 2))))
 
 # --- camera paths ---
