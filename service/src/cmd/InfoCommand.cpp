@@ -206,6 +206,7 @@ int runInfo(const Argv& argv) {
     std::size_t nodes = 0, leaves = 0;
     std::uint64_t triangles = 0, payloadBytes = 0, memoryBytes = 0;
     std::uint64_t textureStored = 0, textureBytes = 0;  // of the above, the textures'
+    std::uint64_t fewest = 0, splats = 0;  // Parry: triangles at the coarsest progression
   };
   std::map<std::uint32_t, Level> levels;
   std::set<std::uint64_t> textureSections;
@@ -218,6 +219,8 @@ int runInfo(const Argv& argv) {
     auto& l = levels[n.level];
     ++l.nodes;
     l.triangles += n.numTri;
+    l.fewest += n.progressive() ? n.minTri : n.numTri;
+    l.splats += n.splatCount;
     // A texture section shared by several nodes of a level is stored (and, by a loader,
     // held) once: count it once.
     l.payloadBytes += n.meshSize();
@@ -295,7 +298,9 @@ int runInfo(const Argv& argv) {
                              {"payloadBytes", l.payloadBytes},
                              {"memoryBytes", l.memoryBytes},
                              {"texturePayloadBytes", l.textureStored},
-                             {"textureMemoryBytes", l.textureBytes}});
+                             {"textureMemoryBytes", l.textureBytes},
+                             {"fewestTriangles", l.fewest},
+                             {"splats", l.splats}});
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -340,11 +345,16 @@ int runInfo(const Argv& argv) {
       " (%.2f MB textures)\n",
       double(f.payloadBytes) / 1e6, double(all.textureStored) / 1e6, double(all.memoryBytes) / 1e6,
       double(all.textureBytes) / 1e6);
-  std::printf("\n  level     nodes    leaves     triangles   stored MB  decoded MB  texture MB\n");
+  // "fewest": the triangles of the level with every progression at its coarsest (Parry's arrays;
+  // the same as triangles without them).
+  std::printf(
+      "\n  level     nodes    leaves     triangles   stored MB  decoded MB  texture MB"
+      "       fewest     splats\n");
   for (const auto& [d, l] : levels)
-    std::printf("  %5u  %8zu  %8zu  %12llu  %10.2f  %10.2f  %10.2f\n", d, l.nodes, l.leaves,
-                (unsigned long long)l.triangles, double(l.payloadBytes) / 1e6,
-                double(l.memoryBytes) / 1e6, double(l.textureBytes) / 1e6);
+    std::printf("  %5u  %8zu  %8zu  %12llu  %10.2f  %10.2f  %10.2f  %11llu  %9llu\n", d, l.nodes,
+                l.leaves, (unsigned long long)l.triangles, double(l.payloadBytes) / 1e6,
+                double(l.memoryBytes) / 1e6, double(l.textureBytes) / 1e6,
+                (unsigned long long)l.fewest, (unsigned long long)l.splats);
   return 0;
 }
 
