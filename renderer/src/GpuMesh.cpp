@@ -1,5 +1,6 @@
 #include "renderer/GpuMesh.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace renderer {
@@ -49,6 +50,33 @@ hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl, const hlod::LocalMe
                          reinterpret_cast<const void*>(6 * sizeof(float)));
   gl.BindVertexArray(0);
   out.gpuBytes_ = interleaved.size() * sizeof(float) + mesh.indices.size() * sizeof(std::uint32_t);
+  out.fullIndexCount_ = out.indexCount_;
+
+  if (!mesh.splats.empty()) {
+    // Splats as points: position, radius, normal, texCoord, 36 bytes each (hlod::Splat).
+    static_assert(sizeof(hlod::Splat) == 9 * sizeof(float));
+    out.splatCount_ = mesh.splats.size();
+    out.splatVao_ = GlObject::create(gl, GlKind::VertexArray);
+    out.splatVbo_ = GlObject::create(gl, GlKind::Buffer);
+    gl.BindVertexArray(out.splatVao_.id());
+    gl.BindBuffer(GL_ARRAY_BUFFER, out.splatVbo_.id());
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.splats.size() * sizeof(hlod::Splat)),
+                  mesh.splats.data(), GL_STATIC_DRAW);
+    constexpr GLsizei s = sizeof(hlod::Splat);
+    const auto at = [](std::size_t floats) {
+      return reinterpret_cast<const void*>(floats * sizeof(float));
+    };
+    gl.EnableVertexAttribArray(0);
+    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, s, at(0));
+    gl.EnableVertexAttribArray(3);
+    gl.VertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, s, at(3));
+    gl.EnableVertexAttribArray(1);
+    gl.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, s, at(4));
+    gl.EnableVertexAttribArray(2);
+    gl.VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, s, at(7));
+    gl.BindVertexArray(0);
+    out.gpuBytes_ += mesh.splats.size() * sizeof(hlod::Splat);
+  }
 
   if (textured && texture) {
     out.texture_ = std::move(texture);
@@ -77,7 +105,39 @@ hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl, const hlod::LocalMe
   return out;
 }
 
+hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl,
+                                      std::shared_ptr<const hlod::LocalMesh> mesh,
+                                      std::shared_ptr<const GpuTexture> texture) {
+  auto out = upload(gl, *mesh, std::move(texture));
+  if (out && !mesh->progression.empty()) out->progressive_ = std::move(mesh);
+  return out;
+}
+
+void GpuMesh::setDraw(const GlFunctions& gl, const hlod::NodeDraw& draw) {
+  drawSplats_ = draw.splats;
+  if (draw.splats || !progressive_) return;
+  const std::uint64_t whole = fullIndexCount_ / 3;
+  const std::uint64_t coarsest = whole - progressive_->progression.decimated();
+  const std::uint64_t count = 3 * std::clamp<std::uint64_t>(draw.triangles, coarsest, whole);
+  if (count == indexCount_) return;
+  // The last triangles of the decimation order, their corners moved to the vertices they
+  // reference there; the buffer was made for the whole mesh, so the fewer fit in its front.
+  const std::vector<std::uint32_t> indices = hlod::progressiveIndices(
+      progressive_->indices, progressive_->progression, count / 3, progressive_->positions.size());
+  gl.BindVertexArray(vao_.id());
+  gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, GLsizeiptr(indices.size() * sizeof(std::uint32_t)),
+                   indices.data());
+  gl.BindVertexArray(0);
+  indexCount_ = count;
+}
+
 void GpuMesh::draw(const GlFunctions& gl) const {
+  if (drawSplats_) {
+    if (splatCount_ == 0) return;
+    gl.BindVertexArray(splatVao_.id());
+    gl.DrawArrays(GL_POINTS, 0, static_cast<GLsizei>(splatCount_));
+    return;
+  }
   gl.BindVertexArray(vao_.id());
   gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
 }

@@ -40,7 +40,8 @@ hlod::Result<hlod::UploadReport> GpuNodeRenderer::upload(double budgetMs,
 }
 
 hlod::Result<hlod::DrawReport> GpuNodeRenderer::draw(const hlod::Camera& camera,
-                                                     std::span<const std::uint32_t> front) {
+                                                     std::span<const std::uint32_t> front,
+                                                     std::span<const hlod::NodeDraw> draws) {
   double zNear = camera.nearPlane, zFar = camera.farPlane;
   if (!bounds_.empty()) clipPlanesFor(camera.position, bounds_, zNear, zFar);
   FrameView view = makeFrameView(camera.position, camera.target, camera.up, camera.fovY,
@@ -48,10 +49,14 @@ hlod::Result<hlod::DrawReport> GpuNodeRenderer::draw(const hlod::Camera& camera,
   std::vector<const GpuMesh*> meshes;
   meshes.reserve(front.size());
   hlod::Aabb drawn;
-  for (std::uint32_t n : front)
-    if (const GpuMesh* m = residency_.find(n)) {
+  const auto& gl = renderer_->gl();
+  for (std::size_t i = 0; i < front.size(); ++i)
+    if (GpuMesh* m = residency_.find(front[i])) {
+      // Whole unless the selection says otherwise (fewer triangles, or splats).
+      m->setDraw(
+          gl, draws.empty() ? hlod::NodeDraw{skeleton_.nodes[front[i]].numTri, false} : draws[i]);
       meshes.push_back(m);
-      drawn.extend(skeleton_.nodes[n].bounds);
+      drawn.extend(skeleton_.nodes[front[i]].bounds);
     }
   // The shadow map is fitted to what this frame draws.
   if (!drawn.empty()) {

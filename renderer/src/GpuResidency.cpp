@@ -7,7 +7,7 @@ namespace renderer {
 
 std::uint64_t uploadBytesOf(const hlod::LocalMesh& m) {
   std::uint64_t b = m.positions.size() * 12 + m.normals.size() * 12 + m.texCoords.size() * 8 +
-                    m.indices.size() * 4;
+                    m.indices.size() * 4 + m.splats.size() * sizeof(hlod::Splat);
   if (m.texture) b += static_cast<std::uint64_t>(m.texture->pixels.size());
   return b;
 }
@@ -20,9 +20,8 @@ void GpuResidency::forget(const GpuMesh& mesh) {
   gpuBytes_ -= mesh.gpuBytes();
   // The last mesh drawn with a texture takes it off the GPU.
   if (const auto& t = mesh.gpuTexture(); t && t.use_count() == 1) gpuBytes_ -= t->gpuBytes;
-  if (textures_.size() > 2 * gpu_.size() + 16) std::erase_if(textures_, [](const auto& e) {
-      return e.second.expired();
-    });
+  if (textures_.size() > 2 * gpu_.size() + 16)
+    std::erase_if(textures_, [](const auto& e) { return e.second.expired(); });
 }
 
 void GpuResidency::evict(std::uint32_t node) {
@@ -35,6 +34,11 @@ void GpuResidency::evict(std::uint32_t node) {
 }
 
 const GpuMesh* GpuResidency::find(std::uint32_t node) const {
+  auto it = gpu_.find(node);
+  return it == gpu_.end() ? nullptr : &it->second;
+}
+
+GpuMesh* GpuResidency::find(std::uint32_t node) {
   auto it = gpu_.find(node);
   return it == gpu_.end() ? nullptr : &it->second;
 }
@@ -54,9 +58,10 @@ hlod::Result<hlod::UploadReport> GpuResidency::upload(double budgetMs, std::uint
     pending_.pop_front();
     std::shared_ptr<const GpuTexture> shared;
     if (mesh->texture)
-      if (auto it = textures_.find(mesh->texture); it != textures_.end()) shared = it->second.lock();
+      if (auto it = textures_.find(mesh->texture); it != textures_.end())
+        shared = it->second.lock();
     const bool fresh = !shared;
-    auto gpu = GpuMesh::upload(gl_, *mesh, shared);
+    auto gpu = GpuMesh::upload(gl_, mesh, shared);
     if (!gpu) return hlod::makeError("node " + std::to_string(node) + ": " + gpu.message());
     if (fresh && gpu->gpuTexture()) {
       textures_.insert_or_assign(mesh->texture, gpu->gpuTexture());
@@ -67,7 +72,8 @@ hlod::Result<hlod::UploadReport> GpuResidency::upload(double budgetMs, std::uint
     gpu_.insert_or_assign(node, std::move(*gpu));
     onGpu_.set(node, true);
     ++report.uploads;
-    report.bytes += uploadBytesOf(*mesh) - (fresh || !mesh->texture ? 0 : mesh->texture->pixels.size());
+    report.bytes +=
+        uploadBytesOf(*mesh) - (fresh || !mesh->texture ? 0 : mesh->texture->pixels.size());
   }
   report.ms = elapsedMs();
   return report;

@@ -386,6 +386,9 @@ void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* cons
   const float shadowTexel = e.shadows ? 1.0f / static_cast<float>(e.shadows->resolution) : 0.0f;
   const ShaderProgram* current = nullptr;
   bool culling = false;
+  // Splats: gl_PointSize from the shader, a radius at w = 1 times this is the diameter in pixels.
+  const float pointScale = projection[1][1] * float(options_.height);
+  g.Enable(GL_PROGRAM_POINT_SIZE);
   for (const GpuMesh* mesh : meshes) {
     if (!mesh) continue;
     // Back faces of one-sided meshes are culled: half the triangles never reach the rasteriser.
@@ -398,8 +401,8 @@ void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* cons
         g.Disable(GL_CULL_FACE);
       }
     }
-    const ShaderProgram* p = program(meshVariant(e, mesh->textured()));
-    assert(p && "compiled in init()");
+    const ShaderProgram* p = program(meshVariant(e, mesh->textured(), mesh->drawsSplats()));
+    if (!p) continue;  // compiled in init(), or the splats' variant, which failed to build
     if (p != current) {
       // Per-program uniforms, once per switch; a location of -1 (not in this variant) is a no-op.
       current = p;
@@ -414,6 +417,7 @@ void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* cons
       g.Uniform1i(p->location(Uniform::ShadowMap), 1);
       g.Uniform1f(p->location(Uniform::ShadowTexel), shadowTexel);
       g.Uniform1f(p->location(Uniform::ShadowBias), 1.5f * shadowTexel);
+      g.Uniform1f(p->location(Uniform::PointScale), pointScale);
     }
     // Camera-relative in double, then float: precision stays where the camera is.
     const glm::dvec3 offset = mesh->centre() - view.eye;
@@ -432,6 +436,7 @@ void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* cons
     ++timing.drawCalls;
   }
   g.Disable(GL_CULL_FACE);
+  g.Disable(GL_PROGRAM_POINT_SIZE);
 }
 
 void Renderer::skyPass(const FrameView& view) {

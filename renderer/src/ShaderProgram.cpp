@@ -7,16 +7,16 @@ namespace renderer {
 namespace {
 
 // The GLSL names of the Uniform enumerators, in their order.
-constexpr const char* kUniformNames[] = {
-    "uModelView",     "uProjection",       "uOffset",
-    "uBaseColor",     "uTexture",          "uUp",
-    "uSunDir",        "uSunColour",        "uFogDensity",
-    "uFogColour",     "uShadowModel",      "uShadowMap",
-    "uShadowBias",    "uShadowTexel",      "uInvViewProj",
-    "uHorizon",       "uZenith",           "uGround",
-    "uDepth",         "uProjectionParams", "uAoRadius",
-    "uAoStrength",    "uAoSamples",        "uAo",
-    "uOutlineColour", "uOutlineThickness", "uOutlineThreshold"};
+constexpr const char* kUniformNames[] = {"uModelView",     "uProjection",       "uOffset",
+                                         "uBaseColor",     "uTexture",          "uUp",
+                                         "uSunDir",        "uSunColour",        "uFogDensity",
+                                         "uFogColour",     "uShadowModel",      "uShadowMap",
+                                         "uShadowBias",    "uShadowTexel",      "uInvViewProj",
+                                         "uHorizon",       "uZenith",           "uGround",
+                                         "uDepth",         "uProjectionParams", "uAoRadius",
+                                         "uAoStrength",    "uAoSamples",        "uAo",
+                                         "uOutlineColour", "uOutlineThickness", "uOutlineThreshold",
+                                         "uPointScale"};
 static_assert(std::size(kUniformNames) == static_cast<std::size_t>(Uniform::Count));
 
 hlod::Result<GlObject> compile(const GlFunctions& gl, GLenum type, const std::string& source) {

@@ -2,7 +2,7 @@
 
 namespace renderer {
 
-VariantKey meshVariant(const hlod::SceneEffects& e, bool textured) {
+VariantKey meshVariant(const hlod::SceneEffects& e, bool textured, bool splats) {
   VariantKey key{ProgramKind::Mesh, 0};
   if (textured && e.textures) key.bits |= variant::kTexture;
   if (e.lit()) key.bits |= variant::kLit;
@@ -10,6 +10,7 @@ VariantKey meshVariant(const hlod::SceneEffects& e, bool textured) {
   if (e.lit() && e.sun) key.bits |= variant::kSun;
   if (e.fog) key.bits |= variant::kFog;
   if (e.lit() && e.sun && e.shadows) key.bits |= variant::kShadows;
+  if (splats) key.bits |= variant::kSplats;
   return key;
 }
 
@@ -23,7 +24,8 @@ std::string definesFor(const VariantKey& key) {
                   {variant::kSun, "SUN"},
                   {variant::kFog, "FOG"},
                   {variant::kShadows, "SHADOWS"},
-                  {variant::kSunDisc, "SUN_DISC"}};
+                  {variant::kSunDisc, "SUN_DISC"},
+                  {variant::kSplats, "SPLATS"}};
   std::string defines;
   for (const auto& d : kDefines)
     if (key.bits & d.bit) defines += std::string("#define ") + d.name + "\n";

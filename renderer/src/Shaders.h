@@ -1,6 +1,6 @@
 #pragma once
 // GLSL sources of hlodr's passes. Mesh effects are #defines (ShaderVariant.h): HAS_TEXTURE, LIT,
-// BLINN_PHONG, SUN, FOG, SHADOWS; the sky's SUN_DISC.
+// BLINN_PHONG, SUN, FOG, SHADOWS, and SPLATS for nodes drawn as points; the sky's SUN_DISC.
 
 namespace renderer::shaders {
 
@@ -11,6 +11,10 @@ layout(location = 2) in vec2 aTexCoord;
 uniform mat4 uModelView;   // camera-relative, formed in double on the CPU
 uniform mat4 uProjection;  // reversed-Z
 uniform vec3 uOffset;      // mesh centre - eye, world axes
+#ifdef SPLATS
+layout(location = 3) in float aRadius;
+uniform float uPointScale;  // projection[1][1] x viewport height: a radius at w = 1 in pixels x 2
+#endif
 out vec3 vNormal;
 out vec2 vTexCoord;
 out vec3 vFromEye;  // world axes, camera-relative
@@ -23,6 +27,10 @@ void main() {
   vNormal = aNormal;
   vTexCoord = aTexCoord;
   vFromEye = aPosition + uOffset;
+#ifdef SPLATS
+  // The splat's sphere seen from here: its diameter in pixels (Parry sec. 5, QSplat).
+  gl_PointSize = clamp(aRadius * uPointScale / gl_Position.w, 1.0, 64.0);
+#endif
 #ifdef SHADOWS
   vShadowCoord = uShadowModel * vec4(aPosition, 1.0);
 #endif
@@ -68,6 +76,10 @@ float sunVisibility(float cosine) {
 #endif
 out vec4 fragColor;
 void main() {
+#ifdef SPLATS
+  vec2 disc = gl_PointCoord - vec2(0.5);
+  if (dot(disc, disc) > 0.25) discard;  // round splats
+#endif
   vec4 albedo = uBaseColor;
 #ifdef HAS_TEXTURE
   albedo *= texture(uTexture, vTexCoord);

@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
           const std::vector<std::uint32_t> front = (*s)->driver().lastFront();
           std::vector<double> again;
           for (int k = 0; k < 3; ++k) {
-            auto next = (*s)->driver().renderer().draw(cam, front);
+            auto next = (*s)->driver().renderer().draw(cam, front, (*s)->driver().lastDraws());
             if (!next) {
               std::fprintf(stderr, "%s\n", next.message().c_str());
               return 1;

@@ -24,6 +24,8 @@ struct SyntheticCity {
   int depth = 3;  // levels below hlod_0
   std::uint32_t levelFactor = 3;
   std::uint32_t triPerNode = 1000;
+  std::uint32_t minTri = 0;      // > 0: every node has a progression down to this (a parry store)
+  std::uint32_t splatCount = 0;  // splats per node
   std::uint64_t bytesPerTri = 48;
 };
 
@@ -41,6 +43,8 @@ inline Skeleton makeSyntheticCity(const SyntheticCity& c) {
     n.bounds = box;
     n.centre = box.centre();
     n.numTri = c.triPerNode;
+    n.minTri = c.minTri;
+    n.splatCount = c.splatCount;
     n.cost = c.triPerNode;
     const glm::dvec3 s = box.size();
     const double area = 2.0 * (s.x * s.z + s.y * s.z) + s.x * s.y;

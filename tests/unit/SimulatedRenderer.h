@@ -18,6 +18,7 @@ class SimulatedRenderer final : public NodeRenderer {
   explicit SimulatedRenderer(std::size_t nodes) : onGpu_(nodes) {}
 
   double msPerTriangle = 1e-4;  // 10 M triangles/s
+  double msPerSplat = 0.5e-4;   // a point costs half a triangle
   double msPerFrame = 0.5;      // clear, state changes: not proportional to the front
   double msPerUpload = 1.0;
   double msScreenPass = 0.0;  // a per-pixel pass (as SSAO): the same whatever the front
@@ -47,14 +48,22 @@ class SimulatedRenderer final : public NodeRenderer {
   }
   std::size_t pendingUploads() const override { return pending_.size(); }
   const Residency& onGpu() const override { return onGpu_; }
-  Result<DrawReport> draw(const Camera&, std::span<const std::uint32_t> front) override {
+  Result<DrawReport> draw(const Camera&, std::span<const std::uint32_t> front,
+                          std::span<const NodeDraw> draws) override {
     DrawReport d;
     double weighted = 0.0;
-    for (std::uint32_t n : front) {
+    for (std::size_t i = 0; i < front.size(); ++i) {
+      const std::uint32_t n = front[i];
       if (!onGpu_.isResident(n)) return makeError("drew a node that is not on the GPU");
-      d.triangles += triangles_.at(n);
-      weighted +=
-          static_cast<double>(triangles_.at(n)) * (levels_.at(n) > 0 ? deeperTriangleFactor : 1.0);
+      // A node's triangles, the fewer its draw asks for, or its splats at msPerSplat.
+      const bool splats = !draws.empty() && draws[i].splats;
+      const std::uint64_t t = draws.empty() ? triangles_.at(n) : draws[i].triangles;
+      if (splats) {
+        weighted += splatCounts_.at(n) * msPerSplat / msPerTriangle;
+        continue;
+      }
+      d.triangles += t;
+      weighted += static_cast<double>(t) * (levels_.at(n) > 0 ? deeperTriangleFactor : 1.0);
     }
     const double geometry = msPerFrame + msPerTriangle * weighted;
     const double shadow = shadowShare * msPerTriangle * weighted;
@@ -73,6 +82,7 @@ class SimulatedRenderer final : public NodeRenderer {
   void setTriangles(const Skeleton& sk) {
     for (const NodeInfo& n : sk.nodes) {
       triangles_.push_back(n.numTri);
+      splatCounts_.push_back(n.splatCount);
       levels_.push_back(n.level);
     }
   }
@@ -83,6 +93,7 @@ class SimulatedRenderer final : public NodeRenderer {
   std::deque<std::pair<std::uint32_t, std::shared_ptr<const LocalMesh>>> pending_;
   std::vector<std::uint64_t> triangles_;
   std::vector<std::uint32_t> levels_;
+  std::vector<std::uint32_t> splatCounts_;
 };
 
 }  // namespace hlod::test

@@ -449,7 +449,8 @@ PreparedBlock HlodBuilder::prepareBlock(const Mesh& block, std::span<const glm::
     const NodeMeasures m = measureNode(n.mesh, options_.cTex);
     info.numTri = m.numTri;
     info.numTexTri = m.numTexTri;
-    info.minTri = info.numTri - std::uint32_t(n.mesh.progression.decimated());
+    const auto decimated = std::uint32_t(n.mesh.progression.decimated());
+    info.minTri = decimated > 0 ? info.numTri - decimated : 0;
     info.cost = m.cost;
     info.staticBenefit = m.staticBenefit;
     info.avgNormal = m.avgNormal;

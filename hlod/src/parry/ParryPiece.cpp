@@ -276,6 +276,14 @@ Mesh pieceAt(const Mesh& mesh, const ParryPiece& piece, std::size_t n, double* s
     out.progression.moveEnd.push_back(std::uint32_t(out.progression.moves.size() / 2));
     out.progression.increments.push_back(p.increments[j]);
   }
+  // A node drawn with no triangles is a splat node's job: its progression stops one triangle
+  // short of that (NodeInfo::minTri 0 means "no progression").
+  Progression& q = out.progression;
+  while (!q.increments.empty() && q.decimated() >= out.triangleCount()) {
+    q.increments.pop_back();
+    q.moveEnd.pop_back();
+    q.moves.resize(2 * std::size_t(q.moveEnd.empty() ? 0 : q.moveEnd.back()));
+  }
   if (splatSize) *splatSize = cut.splatSize;
   return out;
 }

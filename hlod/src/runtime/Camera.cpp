@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hlod {
 
@@ -71,6 +72,12 @@ double Frustum::distanceOutside(const Aabb& box) const {
 double Camera::pixelsPerUnit(double distance, double viewportHeight) const {
   const double halfV = std::tan(glm::radians(std::clamp(fovY, 1e-3, 179.0)) * 0.5);
   return viewportHeight / (2.0 * halfV * std::max(distance, 1e-9));
+}
+
+double projectedPixels(const View& view, const Aabb& box) {
+  const double d = distanceToBox(view.camera.position, box);
+  if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
+  return glm::length(box.size()) * view.camera.pixelsPerUnit(d, view.viewportHeight);
 }
 
 double distanceToBox(const glm::dvec3& p, const Aabb& box) {

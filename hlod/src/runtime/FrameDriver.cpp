@@ -22,22 +22,50 @@ double msSince(Clock::time_point start) {
 
 }  // namespace
 
-std::vector<std::uint32_t> nearToFar(const Skeleton& skeleton, const glm::dvec3& eye,
-                                     std::span<const std::uint32_t> front) {
-  std::vector<std::pair<double, std::uint32_t>> ordered;
+namespace {
+
+// The positions of the front's nodes in near-to-far order.
+std::vector<std::size_t> nearToFarOrder(const Skeleton& skeleton, const glm::dvec3& eye,
+                                        std::span<const std::uint32_t> front) {
+  std::vector<std::pair<double, std::size_t>> ordered;
   ordered.reserve(front.size());
-  for (std::uint32_t n : front) {
-    assert(n < skeleton.nodes.size());
-    const Aabb& b = skeleton.nodes[n].bounds;
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    assert(front[i] < skeleton.nodes.size());
+    const Aabb& b = skeleton.nodes[front[i]].bounds;
     const glm::dvec3 d = glm::clamp(eye, b.min, b.max) - eye;
-    ordered.emplace_back(glm::dot(d, d), n);
+    ordered.emplace_back(glm::dot(d, d), i);
   }
   std::stable_sort(ordered.begin(), ordered.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<std::uint32_t> out;
+  std::vector<std::size_t> out;
   out.reserve(ordered.size());
-  for (const auto& [d2, n] : ordered) out.push_back(n);
+  for (const auto& [d2, i] : ordered) out.push_back(i);
   return out;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> nearToFar(const Skeleton& skeleton, const glm::dvec3& eye,
+                                     std::span<const std::uint32_t> front) {
+  std::vector<std::uint32_t> out;
+  out.reserve(front.size());
+  for (std::size_t i : nearToFarOrder(skeleton, eye, front)) out.push_back(front[i]);
+  return out;
+}
+
+void orderNearToFar(const Skeleton& skeleton, const glm::dvec3& eye,
+                    std::vector<std::uint32_t>& front, std::vector<NodeDraw>& draws) {
+  assert(draws.size() == front.size());
+  std::vector<std::uint32_t> f;
+  std::vector<NodeDraw> d;
+  f.reserve(front.size());
+  d.reserve(front.size());
+  for (std::size_t i : nearToFarOrder(skeleton, eye, front)) {
+    f.push_back(front[i]);
+    d.push_back(draws[i]);
+  }
+  front = std::move(f);
+  draws = std::move(d);
 }
 
 FrameDriver::FrameDriver(std::unique_ptr<Selector> selector,
@@ -78,14 +106,14 @@ DrawSplit splitDraw(const DrawReport& report) {
   return s;
 }
 
-Result<DrawSplit> FrameDriver::timeDraws(const Camera& camera,
-                                         std::span<const std::uint32_t> front) {
+Result<DrawSplit> FrameDriver::timeDraws(const Camera& camera, std::span<const std::uint32_t> front,
+                                         std::span<const NodeDraw> draws) {
   // The first draw pays the first-use costs; the median of the next three is this machine's
   // speed (one timed draw on a shared machine was off by up to 1.7x in the first frame).
-  if (auto warm = renderer_.draw(camera, front); !warm) return warm.error();
+  if (auto warm = renderer_.draw(camera, front, draws); !warm) return warm.error();
   std::array<DrawSplit, 3> timed;
   for (DrawSplit& t : timed) {
-    auto drawn = renderer_.draw(camera, front);
+    auto drawn = renderer_.draw(camera, front, draws);
     if (!drawn) return drawn.error();
     t = splitDraw(*drawn);
   }
@@ -119,7 +147,7 @@ Status FrameDriver::start(double knownVTime) {
                       : frameBounds(bounds_, skel.up, defaultViewDirection(skel.up), 60.0, aspect);
   if (!bounds_.empty()) {
     const std::vector<std::uint32_t> front = nearToFar(skel, cam.position, skel.roots);
-    auto timed = timeDraws(cam, front);
+    auto timed = timeDraws(cam, front, {});
     if (!timed) return timed.error();
     double cost = 0.0;
     for (std::uint32_t r : skel.roots)
@@ -161,7 +189,7 @@ Status FrameDriver::probeVTime(const Camera& camera) {
   if (!first) return first.error();
   const double cost = (*probe)->lastEstimatedCost();
   // renderFrame drew the front once: its first use is paid, timeDraws pays it again (cheap).
-  auto timed = timeDraws(camera, lastFront_);
+  auto timed = timeDraws(camera, lastFront_, lastDraws_);
   if (!timed) return timed.error();
   if (timed->geometryMs > 0.0 && cost > 0.0) {
     measuredVTime_ = timed->geometryMs / cost;
@@ -172,6 +200,7 @@ Status FrameDriver::probeVTime(const Camera& camera) {
   frames_ = 0;
   recent_.clear();
   lastFront_.clear();
+  lastDraws_.clear();
   return Ok{};
 }
 
@@ -249,8 +278,10 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
     }
   }
 
-  lastFront_ = nearToFar(selector_->skeleton(), view.camera.position, sel.front);
-  auto drawn = renderer_.draw(view.camera, lastFront_);
+  lastFront_ = sel.front;
+  lastDraws_ = sel.draws;
+  orderNearToFar(selector_->skeleton(), view.camera.position, lastFront_, lastDraws_);
+  auto drawn = renderer_.draw(view.camera, lastFront_, lastDraws_);
   if (!drawn) return drawn.error();
 
   // Frame time: this frame's uploads plus the GL work through glFinish (settled-mode uploads

@@ -46,6 +46,9 @@ void fillFromSelection(FrameRecord& r, const Selection& s) {
   r.downToggles = s.downToggles;
   r.vTime = s.vTime;
   r.coarserNotResident = s.coarserBecauseNotResident;
+  r.partialNodes = s.partialNodes;
+  r.splatNodes = s.splatNodes;
+  r.splats = s.splats;
 }
 
 bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
@@ -162,6 +165,9 @@ OrderedJson frameObject(const FrameRecord& f) {
           {"pendingUploads", f.pendingUploads},
           {"coarserNotResident", f.coarserNotResident},
           {"stalls", f.stalls},
+          {"partialNodes", f.partialNodes},
+          {"splatNodes", f.splatNodes},
+          {"splats", f.splats},
           {"nodesPerLevel", f.nodesPerLevel}};
 }
 

@@ -115,7 +115,7 @@ Selection FsSelector::select(const View& view, const Residency& residency) {
     if (isDrawn[n]) markDrawn(n, s);
     isDrawn[n] = 0;
   }
-  finishFrame(s);
+  planDraws(view, s);
   return s;
 }
 

@@ -27,6 +27,7 @@ Selection FullSelector::select(const View& view, const Residency& residency) {
   walkFront(
       std::move(queue), residency, s, [](std::uint32_t) { return true; }, visit,
       [](std::uint32_t, const std::vector<std::uint32_t>&) { return true; });
+  planDraws(view, s);
   return s;
 }
 

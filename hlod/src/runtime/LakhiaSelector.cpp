@@ -58,7 +58,8 @@ LakhiaSelector::LakhiaSelector(const Skeleton& skeleton, const SelectorParams& p
       visitFrame_(skeleton.nodes.size(), 0xffffffffu),
       leafCost_(skeleton.nodes.size(), 0.0),
       evaluatedFrame_(skeleton.nodes.size(), 0xffffffffu),
-      visible_(skeleton.nodes.size(), 0) {
+      visible_(skeleton.nodes.size(), 0),
+      slicedFrame_(skeleton.nodes.size(), 0xffffffffu) {
   // Bottom up (children follow their parents in the store): the cost of each subtree's leaves.
   const auto& nodes = skeleton.nodes;
   for (std::size_t i = nodes.size(); i-- > 0;) {
@@ -142,6 +143,7 @@ long long LakhiaSelector::sliceSiblings(const std::vector<std::uint32_t>& visibl
       }
     }
   }
+  for (std::uint32_t n : visibleSiblings) slicedFrame_[n] = frame_;
   long long cumHyst = 0;
   const double hystSwitch = std::max(1e-9, params_.lakhia.c_hystSwitch);
   for (std::uint32_t n : visibleSiblings) {
@@ -193,7 +195,24 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
       });
   fillBudget(s, residency, visit);
   shedBudget(s);
+  // Parry's arrays: a node whose slice buys less than its whole is drawn with what it buys
+  // (nodes the budget fill added fit whole; they were not sliced).
+  planDraws(view, s, [&](std::uint32_t n) { return trianglesBought(n); });
   return s;
+}
+
+std::uint32_t LakhiaSelector::trianglesBought(std::uint32_t n) const {
+  const NodeInfo& info = skeleton_.nodes[n];
+  if (!params_.progressive || !info.progressive() || slicedFrame_[n] != frame_) return info.numTri;
+  const double need = timeNeeded(n);
+  if (!(timeSlice_[n] < need)) return info.numTri;
+  // In steps of 1/kProgressiveSteps of the node's range, so that a slice that moves with
+  // frame-time noise does not rebuild the node's index buffer every frame.
+  const double range = double(info.numTri - info.minTri);
+  const double step = std::max(1.0, range / kProgressiveSteps);
+  const double bought = double(info.numTri) * std::max(0.0, timeSlice_[n]) / need;
+  const double steps = std::round(std::max(0.0, bought - info.minTri) / step);
+  return std::uint32_t(std::min<double>(info.numTri, info.minTri + steps * step));
 }
 
 void LakhiaSelector::shedBudget(Selection& s) {

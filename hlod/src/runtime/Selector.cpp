@@ -75,6 +75,15 @@ double Selector::effectiveCost(std::uint32_t node) const {
   return std::isfinite(c) ? std::max(c, minCost) : minCost;
 }
 
+double Selector::drawCost(std::uint32_t node, const NodeDraw& d) const {
+  const NodeInfo& n = skeleton_.nodes[node];
+  const double minCost = params_.lakhia.c_minCost > 0.0 ? params_.lakhia.c_minCost : 1e-9;
+  if (d.splats) return std::max(minCost, params_.c_splat * double(n.splatCount));
+  if (d.triangles >= n.numTri || n.numTri == 0) return effectiveCost(node);
+  // Eq. 1 is linear in the triangles: a share of them costs that share.
+  return std::max(minCost, effectiveCost(node) * double(d.triangles) / double(n.numTri));
+}
+
 Selection Selector::beginFrame(const View& view) {
   ++frame_;
   if (frame_ == kNever) frame_ = 1;  // wrap-around after 4 billion frames: forget the history

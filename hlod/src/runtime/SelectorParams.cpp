@@ -43,7 +43,7 @@ constexpr Named kLakhiaDoubles[] = {
 std::string selectorParamNames() {
   std::string names;
   for (const Named& n : kLakhiaDoubles) names += std::string(n.name) + ' ';
-  return names + "c_hystRefine ssePixels quadtreeCulling";
+  return names + "c_hystRefine ssePixels quadtreeCulling splats splatPixels c_splat progressive";
 }
 
 Status setSelectorParam(SelectorParams& params, std::string_view name, double value) {
@@ -52,6 +52,18 @@ Status setSelectorParam(SelectorParams& params, std::string_view name, double va
   if (name == "ssePixels") {
     if (!(value > 0.0)) return makeError("parameter ssePixels: must be above 0");
     params.ssePixels = value;
+    return Ok{};
+  }
+  if (name == "splats" || name == "progressive") {
+    if (value != 0.0 && value != 1.0)
+      return makeError("parameter " + std::string(name) + ": must be 0 or 1");
+    (name == "splats" ? params.splats : params.progressive) = value == 1.0;
+    return Ok{};
+  }
+  if (name == "splatPixels" || name == "c_splat") {
+    if (!(value >= 0.0) || !std::isfinite(value))
+      return makeError("parameter " + std::string(name) + ": must be finite and >= 0");
+    (name == "splatPixels" ? params.splatPixels : params.c_splat) = value;
     return Ok{};
   }
   if (name == "quadtreeCulling") {

@@ -44,6 +44,7 @@ Selection SseSelector::select(const View& view, const Residency& residency) {
         return screenSpaceError(nodes[n], view, minDistance) > params_.ssePixels;
       },
       visit, [](std::uint32_t, const std::vector<std::uint32_t>&) { return true; });
+  planDraws(view, s);
   return s;
 }
 

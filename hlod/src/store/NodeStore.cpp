@@ -72,7 +72,8 @@ Status NodeStore::readPayloadChunk(std::uint32_t node, std::uint64_t offset,
     return Ok{};
   };
   const std::uint64_t mesh = n.meshSize();
-  const std::size_t inMesh = offset < mesh ? std::size_t(std::min<std::uint64_t>(out.size(), mesh - offset)) : 0;
+  const std::size_t inMesh =
+      offset < mesh ? std::size_t(std::min<std::uint64_t>(out.size(), mesh - offset)) : 0;
   if (inMesh > 0)
     if (auto s = readAt(out.first(inMesh), n.payloadOffset + offset); !s) return s;
   if (inMesh < out.size())
@@ -106,7 +107,7 @@ Result<LocalMesh> NodeStore::decodePayload(std::uint32_t node,
   if (!mesh) return makeError("node " + std::to_string(node) + ": " + mesh.message());
   // What the selectors plan with, from the skeleton, must be what the payload can draw.
   if (mesh->triangleCount() != n.numTri ||
-      mesh->triangleCount() - mesh->progression.decimated() != n.minTri ||
+      mesh->progression.decimated() != (n.progressive() ? n.numTri - n.minTri : 0) ||
       mesh->splats.size() != n.splatCount)
     return makeError("node " + std::to_string(node) +
                      ": payload disagrees with the skeleton (triangles, progression or splats)");

@@ -62,6 +62,7 @@ namespace renderer {
   X(DELETEBUFFERS, DeleteBuffers)                     \
   X(BINDBUFFER, BindBuffer)                           \
   X(BUFFERDATA, BufferData)                           \
+  X(BUFFERSUBDATA, BufferSubData)                     \
   X(VERTEXATTRIBPOINTER, VertexAttribPointer)         \
   X(ENABLEVERTEXATTRIBARRAY, EnableVertexAttribArray) \
   X(VERTEXATTRIB3F, VertexAttrib3f)                   \

@@ -24,7 +24,8 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
   std::size_t pendingUploads() const override { return residency_.pending(); }
   const hlod::Residency& onGpu() const override { return residency_.onGpu(); }
   hlod::Result<hlod::DrawReport> draw(const hlod::Camera& camera,
-                                      std::span<const std::uint32_t> front) override;
+                                      std::span<const std::uint32_t> front,
+                                      std::span<const hlod::NodeDraw> draws) override;
   hlod::Image readback() override { return renderer_->readback(); }
   bool drawsShadowPass() const override {
     const auto& p = renderer_->passes();

@@ -30,6 +30,7 @@ class GpuResidency {
   std::size_t pending() const { return pending_.size(); }
   const hlod::ResidencySet& onGpu() const { return onGpu_; }
   const GpuMesh* find(std::uint32_t node) const;
+  GpuMesh* find(std::uint32_t node);  // to set what the next frame draws of it
   std::size_t size() const { return gpu_.size(); }
   std::uint64_t gpuBytes() const { return gpuBytes_; }
 
@@ -43,7 +44,7 @@ class GpuResidency {
   // new image at a freed one's address is another key): nodes sharing a texture share it here.
   std::map<std::weak_ptr<const hlod::Image>, std::weak_ptr<const GpuTexture>, std::owner_less<>>
       textures_;
-  std::uint64_t gpuBytes_ = 0;  // buffers, and each texture once
+  std::uint64_t gpuBytes_ = 0;       // buffers, and each texture once
   void forget(const GpuMesh& mesh);  // takes its bytes off gpuBytes_
 };
 

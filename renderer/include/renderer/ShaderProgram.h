@@ -38,6 +38,7 @@ enum class Uniform {
   OutlineColour,
   OutlineThickness,
   OutlineThreshold,
+  PointScale,
   Count
 };
 

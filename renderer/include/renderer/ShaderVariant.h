@@ -28,6 +28,7 @@ constexpr std::uint32_t kSun = 1u << 3;
 constexpr std::uint32_t kFog = 1u << 4;
 constexpr std::uint32_t kShadows = 1u << 5;
 constexpr std::uint32_t kSunDisc = 1u << 6;  // sky: a glow around the sun
+constexpr std::uint32_t kSplats = 1u << 7;   // mesh: points sized by their sphere
 }  // namespace variant
 
 struct VariantKey {
@@ -38,8 +39,9 @@ struct VariantKey {
   bool operator==(const VariantKey& o) const { return packed() == o.packed(); }
 };
 
-// The mesh pass's variant for a mesh with or without a texture under the declared effects.
-VariantKey meshVariant(const hlod::SceneEffects& effects, bool textured);
+// The mesh pass's variant for a mesh with or without a texture under the declared effects, drawn
+// as triangles or as splats.
+VariantKey meshVariant(const hlod::SceneEffects& effects, bool textured, bool splats = false);
 // "#define HAS_TEXTURE\n#define LIT\n...": one line per bit of the key.
 std::string definesFor(const VariantKey& key);
 

@@ -74,4 +74,8 @@ struct View {
   double frontDraws = 1.0;
 };
 
+// About the pixels a box spans in the view: its diagonal seen face-on at its nearest point
+// (infinite with the eye inside it). What decides that a node is drawn as splats.
+double projectedPixels(const View& view, const Aabb& box);
+
 }  // namespace hlod

@@ -68,8 +68,10 @@ class NodeRenderer {
   virtual std::size_t pendingUploads() const = 0;
   // The nodes that have a GPU copy: what a realtime frame may draw.
   virtual const Residency& onGpu() const = 0;
-  // Draws the front, ordered near to far, as seen by the camera.
-  virtual Result<DrawReport> draw(const Camera& camera, std::span<const std::uint32_t> front) = 0;
+  // Draws the front, ordered near to far, as seen by the camera: per node what draws says (in
+  // the front's order; empty: every node whole).
+  virtual Result<DrawReport> draw(const Camera& camera, std::span<const std::uint32_t> front,
+                                  std::span<const NodeDraw> draws) = 0;
   // The last frame's pixels, RGBA8, row 0 at the top.
   virtual Image readback() = 0;
   // Whether draw() runs a "shadow" pass: the front drawn again, depth only, from the sun.
@@ -131,6 +133,7 @@ class FrameDriver {
   std::uint64_t framesRendered() const { return frames_; }
   // The front the last frame drew, near to far.
   const std::vector<std::uint32_t>& lastFront() const { return lastFront_; }
+  const std::vector<NodeDraw>& lastDraws() const { return lastDraws_; }  // lastFront()'s
   // The last options().recentFrames records, oldest first.
   const std::deque<FrameRecord>& recent() const { return recent_; }
   // The v_time start() measured (0 before start, or when it was given): the probe's where
@@ -141,7 +144,8 @@ class FrameDriver {
   void drainLoader();
   Status probeVTime(const Camera& camera);
   // Draws `front` once to pay its first use, then three times: the draw of median geometry time.
-  Result<DrawSplit> timeDraws(const Camera& camera, std::span<const std::uint32_t> front);
+  Result<DrawSplit> timeDraws(const Camera& camera, std::span<const std::uint32_t> front,
+                              std::span<const NodeDraw> draws);
   // View::frontDraws of the next frame: 1, plus the shadow pass's share where there is one.
   double frontDraws() const;
 
@@ -159,6 +163,7 @@ class FrameDriver {
   VTimeFeedback shadowShare_{1.0, 0.3, 4.0, 2.0};
   std::deque<FrameRecord> recent_;
   std::vector<std::uint32_t> lastFront_;
+  std::vector<NodeDraw> lastDraws_;  // lastFront_'s
 };
 
 // The front of a selection ordered near to far from the camera (by distance to each node's box):
@@ -166,5 +171,8 @@ class FrameDriver {
 // rasteriser is most of a street-level frame.
 std::vector<std::uint32_t> nearToFar(const Skeleton& skeleton, const glm::dvec3& eye,
                                      std::span<const std::uint32_t> front);
+// The same order for a front and its draws together.
+void orderNearToFar(const Skeleton& skeleton, const glm::dvec3& eye,
+                    std::vector<std::uint32_t>& front, std::vector<NodeDraw>& draws);
 
 }  // namespace hlod

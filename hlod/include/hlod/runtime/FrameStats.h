@@ -16,7 +16,9 @@
 //     compositeMs, outlineMs (each pass's GL_TIME_ELAPSED, ms; 0 for a pass the scene does not
 //     declare, which does not run), uploads, uploadBytes, pendingUploads (loaded, waiting for
 //     an upload), loadErrors and bytesRead (cumulative, of the loader), cacheHits (cumulative:
-//     nodes another session had decoded already).
+//     nodes another session had decoded already), partialNodes (front nodes drawn with fewer
+//     triangles than their own, from their progression), splatNodes and splats (front nodes drawn
+//     as splats, and their splats).
 //   summary: frames, medianRelError and p95RelError (of |gpuMs - targetMs| / targetMs),
 //     shareOverTarget and shareOver125 (fraction of frames with gpuMs > target, > 1.25 target),
 //     p99OverTarget (p99 of gpuMs / targetMs), meanGpuMs, totalStalls, peakResidentBytes,
@@ -72,6 +74,9 @@ struct FrameRecord {
   std::uint64_t loadErrors = 0;
   std::uint64_t bytesRead = 0;
   std::uint64_t cacheHits = 0;
+  std::uint32_t partialNodes = 0;  // front nodes drawn with fewer triangles (Parry's arrays)
+  std::uint32_t splatNodes = 0;    // front nodes drawn as splats
+  std::uint64_t splats = 0;
 };
 
 // Copies the selector's part (targetMs, estimatedMs, triangles, levels, toggles, vTime, ...).

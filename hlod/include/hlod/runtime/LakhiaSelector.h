@@ -59,6 +59,10 @@ class LakhiaSelector final : public Selector {
   void fillBudget(Selection& s, const Residency& residency, Visit&& visit);
   // Coarsens a front that the hysteresis keeps far over the aim (see the .cpp).
   void shedBudget(Selection& s);
+  // The triangles node n's time slice buys, when it was sliced this frame and has a progression
+  // (in steps of its range); its numTri otherwise.
+  std::uint32_t trianglesBought(std::uint32_t n) const;
+  static constexpr double kProgressiveSteps = 32.0;
 
   std::vector<double> hyst_;
   std::vector<double> timeSlice_;
@@ -68,6 +72,7 @@ class LakhiaSelector final : public Selector {
   std::vector<std::uint32_t> evaluatedFrame_;  // frame priority_ and visible_ were computed
   std::vector<std::uint8_t> visible_;          // in the frustum, as of evaluatedFrame_
   std::vector<std::uint8_t> capped_;           // sliceSiblings scratch
+  std::vector<std::uint32_t> slicedFrame_;     // frame a node's timeSlice_ was last set
   double aimMs_ = 0.0;  // c_aim * the drawing's budget this frame: what the slices share
 };
 

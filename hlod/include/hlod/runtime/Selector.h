@@ -64,6 +64,12 @@ struct LoadRequest {
   double priority = 0.0;
 };
 
+// What to draw of a node of the front.
+struct NodeDraw {
+  std::uint32_t triangles = 0;  // numTri (whole), or fewer from its progression; 0 with splats
+  bool splats = false;          // drawn as its splats
+};
+
 struct Selection {
   std::vector<std::uint32_t> front;  // nodes to draw, each resident
   double estimatedMs =
@@ -80,7 +86,12 @@ struct Selection {
   std::uint32_t fogCulled = 0;    // visible nodes left out: wholly beyond View::fogCullDistance
   std::uint32_t coarserBecauseNotResident = 0;    // drawn coarser: a visible child not resident
   std::vector<std::uint32_t> nodesDrawnPerLevel;  // index = level d of hlod_d
-  std::uint64_t triangles = 0;                    // sum of numTri of the front
+  std::uint64_t triangles = 0;                    // triangles drawn (draws)
+  // Per node of front, in its order (Selector::planDraws): whole, fewer triangles, or splats.
+  std::vector<NodeDraw> draws;
+  std::uint32_t partialNodes = 0;  // front nodes drawn with fewer triangles than their own
+  std::uint32_t splatNodes = 0;    // front nodes drawn as splats
+  std::uint64_t splats = 0;        // splats drawn
   QuadtreeWalk quadtree;  // the cells the culling walk tested and skipped (QuadtreeCulling)
 };
 
@@ -160,6 +171,16 @@ struct SelectorParams {
   // Frustum culling starts at the block quadtree (QuadtreeCulling): the same fronts, fewer roots
   // looked at. Off: every root is evaluated (for comparison; `--params quadtreeCulling=0`).
   bool quadtreeCulling = true;
+  // Parry's hybrid rendering (sec. 3, 5): a node with splats whose box projects to fewer than
+  // splatPixels pixels (its diagonal) is drawn as its splats, which cost c_splat units of cost
+  // (eq. 1) each. Off by default (`--splats on`, `--params splats=1`).
+  bool splats = false;
+  double splatPixels = 4.0;
+  double c_splat = 0.5;
+  // Lakhia: a front node with a progression (a parry store) whose time slice buys less than its
+  // timeNeeded is drawn with the triangles the slice buys, down to its coarsest (Parry's arrays
+  // drawn at any count), instead of whole. `--params progressive=0` draws whole nodes only.
+  bool progressive = true;
 };
 
 // Sets one constant by its name in the code (c_aim, c_fillAdd, feedbackGain, ssePixels, ...;
@@ -233,6 +254,17 @@ class Selector {
  protected:
   // Bookkeeping shared by all selectors: frame counter, toggles, the front and its counters.
   Selection beginFrame(const View& view);
+  // After the front is chosen: what to draw of each node (Selection::draws). Splats for the
+  // nodes that project to fewer than splatPixels (when on); whole nodes otherwise, or
+  // trianglesFor(node) where it gives fewer (Lakhia's slices); then the front's cost and
+  // triangles are recounted from the draws and finishFrame runs.
+  template <class TrianglesFor>
+  void planDraws(const View& view, Selection& s, TrianglesFor&& trianglesFor);
+  void planDraws(const View& view, Selection& s) {
+    planDraws(view, s, [&](std::uint32_t n) { return skeleton_.nodes[n].numTri; });
+  }
+  // The cost (eq. 1) of drawing d of node n: whole, a share of its triangles, or its splats.
+  double drawCost(std::uint32_t node, const NodeDraw& d) const;
   void markRefined(std::uint32_t node, Selection& s);
   void markDrawn(std::uint32_t node, Selection& s);
   void finishFrame(Selection& s);
@@ -324,6 +356,34 @@ class Selector {
   std::vector<std::uint32_t> refinedFrame_;   // last frame each node was replaced by children
   std::vector<std::uint32_t> refinedBefore_;  // refinedFrame_ before markRefined set it
 };
+
+template <class TrianglesFor>
+void Selector::planDraws(const View& view, Selection& s, TrianglesFor&& trianglesFor) {
+  s.draws.assign(s.front.size(), NodeDraw{});
+  s.estimatedCost = 0.0;
+  s.triangles = 0;
+  s.partialNodes = s.splatNodes = 0;
+  s.splats = 0;
+  for (std::size_t i = 0; i < s.front.size(); ++i) {
+    const std::uint32_t n = s.front[i];
+    const NodeInfo& info = skeleton_.nodes[n];
+    NodeDraw& d = s.draws[i];
+    if (params_.splats && info.splatCount > 0 &&
+        projectedPixels(view, info.bounds) < params_.splatPixels) {
+      d.splats = true;
+      ++s.splatNodes;
+      s.splats += info.splatCount;
+    } else {
+      d.triangles = info.progressive()
+                        ? std::clamp<std::uint32_t>(trianglesFor(n), info.minTri, info.numTri)
+                        : info.numTri;
+      if (d.triangles < info.numTri) ++s.partialNodes;
+      s.triangles += d.triangles;
+    }
+    s.estimatedCost += drawCost(n, d);
+  }
+  finishFrame(s);
+}
 
 // "lakhia", "sse", "fs" or "full"; an unknown name is an Error listing the known ones.
 Result<std::unique_ptr<Selector>> makeSelector(std::string_view name, const Skeleton& skeleton,

@@ -25,10 +25,11 @@ struct NodeInfo {
   glm::dvec3 centre{0.0};   // payload vertices are float, relative to this
   std::uint32_t numTri = 0;
   std::uint32_t numTexTri = 0;
-  // Parry (sec. 5): the fewest triangles the node's progression draws it with (numTri without a
-  // progression: drawn whole only), and how many splats it has (0: never drawn as splats).
+  // Parry (sec. 5): the fewest triangles the node's progression draws it with (0: no
+  // progression, drawn whole only), and how many splats it has (0: never drawn as splats).
   std::uint32_t minTri = 0;
   std::uint32_t splatCount = 0;
+  bool progressive() const { return minTri > 0 && minTri < numTri; }
   double cost = 0.0;                      // eq. 1
   double staticBenefit = 0.0;             // eq. 2
   glm::vec3 avgNormal{0.0f, 0.0f, 1.0f};  // eq. 3 (fallback +Z when the node has no area)
