@@ -4,14 +4,14 @@
 
 #include <algorithm>
 #include <cassert>
-#include <limits>
 #include <chrono>
-#include <condition_variable>
-#include <mutex>
-#include <thread>
 #include <cmath>
+#include <condition_variable>
+#include <limits>
 #include <map>
+#include <mutex>
 #include <optional>
+#include <thread>
 #include <unordered_map>
 
 #include <OpenImageIO/imagebuf.h>
@@ -49,8 +49,8 @@ BlockBorders blockBorders(const Mesh& block, std::span<const glm::dvec3> seam) {
   std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> id;
   b.positionOf.resize(block.positions.size());
   for (std::size_t v = 0; v < block.positions.size(); ++v)
-    b.positionOf[v] =
-        id.try_emplace(block.positions[v] + glm::dvec3(0.0), std::uint32_t(id.size())).first->second;
+    b.positionOf[v] = id.try_emplace(block.positions[v] + glm::dvec3(0.0), std::uint32_t(id.size()))
+                          .first->second;
   b.corners.assign(id.size(), 0);
   b.seam.assign(id.size(), 0);
   b.scratch.assign(id.size(), 0);
@@ -77,30 +77,41 @@ std::vector<std::uint8_t> lockBorder(const Mesh& piece, const std::vector<std::u
 // Adds the outline flags of the piece's vertices on the block's sides: kVertexOnOutline on a
 // straight run of the open border there (or off the border: a kerb face lying in the side),
 // kVertexLocked at a corner of it, where a collapse would cut the corner off and open a crack.
-void markOutline(const Mesh& piece, std::span<const CutPlane> sides,
-                 std::vector<std::uint8_t>& flags) {
+void markOutline(const Mesh& piece, const std::vector<std::uint32_t>& origin, BlockBorders& b,
+                 std::span<const CutPlane> sides, std::vector<std::uint8_t>& flags) {
   if (sides.empty()) return;
-  std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> id;
+  // The piece's positions, numbered in the order they first appear (the block's position ids,
+  // through b.scratch, which is zero again on return).
   std::vector<glm::dvec3> at;
   std::vector<std::uint32_t> idOf(piece.positions.size());
   for (std::size_t v = 0; v < piece.positions.size(); ++v) {
-    auto [it, fresh] =
-        id.try_emplace(piece.positions[v] + glm::dvec3(0.0), std::uint32_t(at.size()));
-    if (fresh) at.push_back(piece.positions[v]);
-    idOf[v] = it->second;
+    std::uint32_t& local = b.scratch[b.positionOf[origin[v]]];
+    if (local == 0) {
+      at.push_back(piece.positions[v]);
+      local = std::uint32_t(at.size());
+    }
+    idOf[v] = local - 1;
   }
-  std::unordered_map<std::uint64_t, int> edgeUses;
+  for (std::size_t v = 0; v < piece.positions.size(); ++v) b.scratch[b.positionOf[origin[v]]] = 0;
+  // An edge used once lies on the open border: the edges sorted, an edge's uses in a run.
+  std::vector<std::uint64_t> edges;
+  edges.reserve(piece.indices.size());
   for (std::size_t i = 0; i + 2 < piece.indices.size(); i += 3)
     for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = idOf[piece.indices[i + k]], b = idOf[piece.indices[i + (k + 1) % 3]];
-      if (a != b) ++edgeUses[(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
+      const std::uint32_t p = idOf[piece.indices[i + k]], q = idOf[piece.indices[i + (k + 1) % 3]];
+      if (p != q) edges.push_back((std::uint64_t(std::min(p, q)) << 32) | std::max(p, q));
     }
+  std::sort(edges.begin(), edges.end());
   std::vector<std::vector<std::uint32_t>> borderNeighbours(at.size());
-  for (const auto& [key, uses] : edgeUses) {
-    if (uses != 1) continue;
-    const auto a = std::uint32_t(key >> 32), b = std::uint32_t(key & 0xffffffffu);
-    borderNeighbours[a].push_back(b);
-    borderNeighbours[b].push_back(a);
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t end = i + 1;
+    while (end < edges.size() && edges[end] == edges[i]) ++end;
+    if (end - i == 1) {
+      const auto p = std::uint32_t(edges[i] >> 32), q = std::uint32_t(edges[i] & 0xffffffffu);
+      borderNeighbours[p].push_back(q);
+      borderNeighbours[q].push_back(p);
+    }
+    i = end;
   }
   for (std::size_t v = 0; v < piece.positions.size(); ++v) {
     if (flags[v] == kVertexLocked) continue;
@@ -187,7 +198,7 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
     const auto target =
         std::max<std::size_t>(1, std::size_t(std::llround(double(piece.triangleCount()) / s)));
     std::vector<std::uint8_t> locked = lockBorder(piece, origin, borders);
-    markOutline(piece, blockSides, locked);
+    markOutline(piece, origin, borders, blockSides, locked);
     SimplifiedMesh simplified =
         simplifier.simplify(piece, target, locked, errorLimit(blockArea, blockTriangles, s));
     nodes[i].mesh = std::move(simplified.mesh);
@@ -275,10 +286,8 @@ void appendBlocks(const Mesh& mesh, const std::vector<std::vector<std::uint32_t>
     for (std::uint32_t k = 0; k < parts.size(); ++k)
       for (std::uint32_t t : parts[k])
         for (int c = 0; c < 3; ++c) {
-          auto [it, fresh] =
-              owner.try_emplace(mesh.positions[mesh.indices[std::size_t(t) * 3 + c]] +
-                                    glm::dvec3(0.0),
-                                k);
+          auto [it, fresh] = owner.try_emplace(
+              mesh.positions[mesh.indices[std::size_t(t) * 3 + c]] + glm::dvec3(0.0), k);
           if (!fresh && it->second != k) it->second = kShared;
         }
   for (std::size_t k = 0; k < parts.size(); ++k) {
@@ -288,7 +297,8 @@ void appendBlocks(const Mesh& mesh, const std::vector<std::vector<std::uint32_t>
     std::unordered_map<glm::dvec3, char, PositionHash> seen;
     for (const glm::dvec3& p : block.mesh.positions) {
       auto it = owner.find(p + glm::dvec3(0.0));
-      if (it != owner.end() && it->second == kShared && seen.try_emplace(p + glm::dvec3(0.0)).second)
+      if (it != owner.end() && it->second == kShared &&
+          seen.try_emplace(p + glm::dvec3(0.0)).second)
         block.seam.push_back(p);
     }
     blocks.push_back(std::move(block));
@@ -377,8 +387,7 @@ void remapToRect(const Image& texture, const TexelRect& rect, std::vector<glm::v
 
 // The rect of texture, box-filtered to about 1/sqrt(factor) of its side (at least
 // kMinTextureSide pixels, never enlarged).
-std::shared_ptr<const Image> cropImage(const Image& texture, const TexelRect& rect,
-                                       double factor) {
+std::shared_ptr<const Image> cropImage(const Image& texture, const TexelRect& rect, double factor) {
   const int cw = rect.x1 - rect.x0, ch = rect.y1 - rect.y0;
   const bool cropped = cw != texture.width || ch != texture.height;
   const double scale = factor > 1.0 ? 1.0 / std::sqrt(factor) : 1.0;
