@@ -59,6 +59,7 @@ TEST_P(TriangleBvhExact, AnswersEqualThoseOfTryingEveryTriangle) {
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-10.0, 110.0);
   std::uint32_t hint = TriangleBvh::kNoHint;
+  std::uint32_t nearHint = TriangleBvh::kNoHint;
   std::vector<std::uint32_t> near;
   for (int k = 0; k < 400; ++k) {
     // Half the points on a triangle (distance about 0), half anywhere around the cloud.
@@ -67,7 +68,9 @@ TEST_P(TriangleBvhExact, AnswersEqualThoseOfTryingEveryTriangle) {
         k % 2 ? (t[0] + t[1] + t[2]) / 3.0 : at + glm::dvec3(u(rng), u(rng), u(rng));
     const double want2 = brute.closest2(p);
     double closest2 = -1.0;
-    bvh.nearest(p, 1e-3, near, &closest2);
+    // The last query's closest triangle first: near this point or anywhere.
+    bvh.nearest(p, 1e-3, near, &closest2, &nearHint);
+    EXPECT_EQ(near, bvh.nearest(p, 1e-3));
     EXPECT_EQ(bvh.distance2(p), want2);
     EXPECT_EQ(closest2, want2);
     EXPECT_EQ(bvh.distance(p), std::sqrt(want2));

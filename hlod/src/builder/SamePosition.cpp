@@ -14,7 +14,11 @@ std::vector<std::uint32_t> firstAtSamePosition(std::span<const glm::dvec3> posit
   struct Key {
     std::array<std::uint64_t, 3> bits;
     std::uint32_t index;
-    bool operator<(const Key& o) const { return bits != o.bits ? bits < o.bits : index < o.index; }
+    bool operator<(const Key& o) const {
+      for (int k = 0; k < 3; ++k)
+        if (bits[k] != o.bits[k]) return bits[k] < o.bits[k];
+      return index < o.index;
+    }
   };
   const auto n = static_cast<std::uint32_t>(positions.size());
   std::vector<std::uint32_t> first(n);

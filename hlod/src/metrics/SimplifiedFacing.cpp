@@ -90,7 +90,8 @@ Result<std::vector<TriangleFacing>> FacingChecker::check(const Mesh& simplified,
   const TriangleBvh& bvh = index_->bvh;
   std::vector<TriangleFacing> out(test->triangles.size());
   std::vector<std::uint32_t> near;
-  std::uint32_t hint = TriangleBvh::kNoHint;  // neighbouring points are near the same face
+  // Neighbouring points are near the same face.
+  std::uint32_t hint = TriangleBvh::kNoHint, nearHint = TriangleBvh::kNoHint;
   const double offLimit2 = offLimit * offLimit;
   for (std::size_t i = 0; i < test->triangles.size(); ++i) {
     const glm::dvec3& n = test->normals[i];
@@ -98,7 +99,7 @@ Result<std::vector<TriangleFacing>> FacingChecker::check(const Mesh& simplified,
     const Triangle& t = test->triangles[i];
     const glm::dvec3 centroid = (t[0] + t[1] + t[2]) / 3.0;
     double centroid2 = 0.0;
-    bvh.nearest(centroid, index_->slack, near, &centroid2);
+    bvh.nearest(centroid, index_->slack, near, &centroid2, &nearHint);
     double best = -2.0;
     for (std::uint32_t id : near) best = std::max(best, glm::dot(index_->normals[id], n));
     // The centroid's distance is the nearest search's own; the edge midpoints are measured.

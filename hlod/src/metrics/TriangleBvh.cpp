@@ -109,13 +109,13 @@ TriangleBvh::TriangleBvh(std::vector<Triangle> triangles) {
   }
   nodes_.reserve(2 * n / kLeafSize + 1);
   build(items, 0, n);
-  triangles_.resize(n);
-  flat_.resize(n);
-  ids_.resize(n);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    ids_[i] = items[i].id;
-    triangles_[i] = triangles[ids_[i]];
-    flat_[i] = isFlat(triangles_[i]);
+  triangles_.reserve(n);
+  flat_.reserve(n);
+  ids_.reserve(n);
+  for (const BuildItem& item : items) {
+    ids_.push_back(item.id);
+    triangles_.push_back(triangles[item.id]);
+    flat_.push_back(isFlat(triangles_.back()));
   }
   // Boxes bottom up (children follow their parent): a leaf's from its triangles, a parent's the
   // union of its children's.
@@ -266,14 +266,24 @@ std::vector<std::uint32_t> TriangleBvh::nearest(const glm::dvec3& p, double slac
 }
 
 void TriangleBvh::nearest(const glm::dvec3& p, double slack, std::vector<std::uint32_t>& out,
-                          double* closest2) const {
+                          double* closest2, std::uint32_t* hint) const {
   assert(slack >= 0.0);
   // One pass: the closest distance so far plus slack bounds the search (it only shrinks), so
-  // every triangle within the final bound is met; those past it go at the end.
+  // every triangle within the final bound is met; those past it go at the end. The hint's
+  // triangle, taken first, bounds it from the start.
   const glm::dvec3 q = p - origin_;
   double best2 = std::numeric_limits<double>::infinity();
   double bound2 = best2;
+  std::uint32_t closest = kNoHint;
+  const std::uint32_t first = hint && *hint < triangles_.size() ? *hint : kNoHint;
   out.clear();  // leaf indices first
+  if (first != kNoHint) {
+    best2 = triangleDistance2(p, first);
+    const double bound = std::sqrt(best2) + slack;
+    bound2 = bound * bound;
+    closest = first;
+    out.push_back(first);
+  }
   struct Entry {
     std::uint32_t node;
     double d2;
@@ -287,9 +297,11 @@ void TriangleBvh::nearest(const glm::dvec3& p, double slack, std::vector<std::ui
     const Node& node = nodes_[e.node];
     if (node.count > 0) {
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+        if (i == first) continue;
         const double d2 = triangleDistance2(p, i);
         if (d2 < best2) {
           best2 = d2;
+          closest = i;
           const double bound = std::sqrt(best2) + slack;
           bound2 = bound * bound;
         }
@@ -307,6 +319,7 @@ void TriangleBvh::nearest(const glm::dvec3& p, double slack, std::vector<std::ui
     if (nearer.d2 <= bound2) stack[top++] = nearer;
   }
   if (closest2) *closest2 = best2;
+  if (hint) *hint = closest;
   std::size_t kept = 0;
   for (std::uint32_t i : out)
     if (triangleDistance2(p, i) <= bound2) out[kept++] = ids_[i];

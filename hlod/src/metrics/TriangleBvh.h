@@ -39,10 +39,11 @@ class TriangleBvh {
 
   // The indices (into the constructor's vector) of the triangles no farther from p than the
   // closest one plus slack (>= 0), ascending: over an edge or a corner, every face that meets
-  // there. closest2, when given, receives distance2(p).
+  // there. closest2, when given, receives distance2(p); hint, as within2's, names a triangle
+  // tried first and receives the closest one.
   std::vector<std::uint32_t> nearest(const glm::dvec3& p, double slack) const;
   void nearest(const glm::dvec3& p, double slack, std::vector<std::uint32_t>& out,
-               double* closest2 = nullptr) const;
+               double* closest2 = nullptr, std::uint32_t* hint = nullptr) const;
 
  private:
   // Float boxes, relative to origin_ and widened past rounding: half the bytes of doubles, and
