@@ -69,9 +69,14 @@ std::uint32_t nearestUnlocked(const Simplifier::Shape& shape,
 Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size_t targetTriangles,
                                        double errorLimit, const ReduceFn& reduce) {
   const Mesh original = asMesh(shape, shape.indices);
-  std::vector<std::uint32_t> used = shape.indices;
-  std::sort(used.begin(), used.end());
-  used.erase(std::unique(used.begin(), used.end()), used.end());
+  // The vertices the triangles use, ascending.
+  std::vector<std::uint32_t> used;
+  {
+    std::vector<std::uint8_t> isUsed(shape.positions.size(), 0);
+    for (std::uint32_t v : shape.indices) isUsed[v] = 1;
+    for (std::uint32_t v = 0; v < isUsed.size(); ++v)
+      if (isUsed[v]) used.push_back(v);
+  }
   const double floor = 1e-4 * glm::length(original.bounds().size());
   // The spacing of targetTriangles triangles spread evenly over the surface: a simplification
   // to that many triangles need not deviate by more, whatever error the simplifier allowed

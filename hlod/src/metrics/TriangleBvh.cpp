@@ -109,14 +109,29 @@ TriangleBvh::TriangleBvh(std::vector<Triangle> triangles) {
   }
   nodes_.reserve(2 * n / kLeafSize + 1);
   build(items, 0, n);
-  triangles_.reserve(n);
-  flat_.reserve(n);
   ids_.reserve(n);
-  for (const BuildItem& item : items) {
-    ids_.push_back(item.id);
-    triangles_.push_back(triangles[item.id]);
-    flat_.push_back(isFlat(triangles_.back()));
+  for (const BuildItem& item : items) ids_.push_back(item.id);
+  items = {};
+  // The triangles into leaf order in place (triangles_[i] = triangles[ids_[i]]), cycle by cycle:
+  // no second copy of them. flat_ marks the places done until it gets its meaning.
+  flat_.assign(n, 0);
+  for (std::uint32_t start = 0; start < n; ++start) {
+    if (flat_[start]) continue;
+    const Triangle saved = triangles[start];
+    std::uint32_t i = start;
+    for (;;) {
+      flat_[i] = 1;
+      const std::uint32_t from = ids_[i];
+      if (from == start) {
+        triangles[i] = saved;
+        break;
+      }
+      triangles[i] = triangles[from];
+      i = from;
+    }
   }
+  triangles_ = std::move(triangles);
+  for (std::uint32_t i = 0; i < n; ++i) flat_[i] = isFlat(triangles_[i]);
   // Boxes bottom up (children follow their parent): a leaf's from its triangles, a parent's the
   // union of its children's.
   for (std::size_t k = nodes_.size(); k-- > 0;) {
