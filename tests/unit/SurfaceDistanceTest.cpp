@@ -125,6 +125,39 @@ TEST(SurfaceDistance, TheSameSeedGivesTheSameResultAndAnotherSeedOtherSamples) {
   EXPECT_NEAR(first->meanAB, other->meanAB, 0.01);  // both estimate the same mean
 }
 
+TEST(SurfaceDistance, AFarSamplerFindsWhatFarSamplesFindsAndTheFarthestSampleOfAll) {
+  // The unit square against its lower-left half lifted by 0.1: that half's samples are 0.1 away,
+  // the other half's up to sqrt(0.5 + 0.01).
+  const Mesh original = square(4);
+  const Mesh half = triangle({0, 0, 0.1}, {1, 0, 0.1}, {0, 1, 0.1});
+  const Result<FarSampler> sampler = FarSampler::create(original, 3000);
+  ASSERT_TRUE(sampler.ok()) << sampler.message();
+  for (double limit : {0.0, 0.2, 1.0}) {
+    double farthest = -1.0;
+    const Result<std::vector<FarSample>> got = sampler->measure(half, limit, &farthest);
+    const Result<std::vector<FarSample>> want = farSamples(original, half, 3000, limit);
+    ASSERT_TRUE(got.ok() && want.ok());
+    ASSERT_EQ(got->size(), want->size());
+    for (std::size_t i = 0; i < got->size(); ++i) {
+      EXPECT_EQ((*got)[i].point, (*want)[i].point);
+      EXPECT_EQ((*got)[i].triangle, (*want)[i].triangle);
+      EXPECT_EQ((*got)[i].distance, (*want)[i].distance);
+    }
+    // Every sample is farther than 0: the largest of limit 0's list is the farthest of all.
+    const Result<std::vector<FarSample>> all = farSamples(original, half, 3000, 0.0);
+    ASSERT_TRUE(all.ok());
+    ASSERT_EQ(all->size(), 3000u);
+    double want2 = 0.0;
+    for (const FarSample& x : *all) want2 = std::max(want2, x.distance);
+    EXPECT_EQ(farthest, want2);
+    EXPECT_GT(farthest, 0.6);
+    EXPECT_LE(farthest, std::sqrt(0.51) + 1e-12);
+  }
+  EXPECT_FALSE(FarSampler::create(original, 0).ok());
+  EXPECT_FALSE(FarSampler::create(triangle({0, 0, 0}, {1, 1, 1}, {2, 2, 2}), 10).ok());
+  EXPECT_FALSE(sampler->measure(Mesh{}, 0.1).ok());
+}
+
 TEST(SurfaceDistance, UnusableMeshesAreErrors) {
   const Mesh good = square(1);
   Mesh empty;

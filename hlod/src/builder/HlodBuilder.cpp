@@ -7,7 +7,9 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <optional>
+#include <thread>
 #include <unordered_map>
 
 #include <OpenImageIO/imagebuf.h>
@@ -67,30 +69,41 @@ std::vector<std::uint8_t> lockBorder(const Mesh& piece, const std::vector<std::u
 // Adds the outline flags of the piece's vertices on the block's sides: kVertexOnOutline on a
 // straight run of the open border there (or off the border: a kerb face lying in the side),
 // kVertexLocked at a corner of it, where a collapse would cut the corner off and open a crack.
-void markOutline(const Mesh& piece, std::span<const CutPlane> sides,
-                 std::vector<std::uint8_t>& flags) {
+void markOutline(const Mesh& piece, const std::vector<std::uint32_t>& origin, BlockBorders& b,
+                 std::span<const CutPlane> sides, std::vector<std::uint8_t>& flags) {
   if (sides.empty()) return;
-  std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> id;
+  // The piece's positions, numbered in the order they first appear (the block's position ids,
+  // through b.scratch, which is zero again on return).
   std::vector<glm::dvec3> at;
   std::vector<std::uint32_t> idOf(piece.positions.size());
   for (std::size_t v = 0; v < piece.positions.size(); ++v) {
-    auto [it, fresh] =
-        id.try_emplace(piece.positions[v] + glm::dvec3(0.0), std::uint32_t(at.size()));
-    if (fresh) at.push_back(piece.positions[v]);
-    idOf[v] = it->second;
+    std::uint32_t& local = b.scratch[b.positionOf[origin[v]]];
+    if (local == 0) {
+      at.push_back(piece.positions[v]);
+      local = std::uint32_t(at.size());
+    }
+    idOf[v] = local - 1;
   }
-  std::unordered_map<std::uint64_t, int> edgeUses;
+  for (std::size_t v = 0; v < piece.positions.size(); ++v) b.scratch[b.positionOf[origin[v]]] = 0;
+  // An edge used once lies on the open border: the edges sorted, an edge's uses in a run.
+  std::vector<std::uint64_t> edges;
+  edges.reserve(piece.indices.size());
   for (std::size_t i = 0; i + 2 < piece.indices.size(); i += 3)
     for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = idOf[piece.indices[i + k]], b = idOf[piece.indices[i + (k + 1) % 3]];
-      if (a != b) ++edgeUses[(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
+      const std::uint32_t p = idOf[piece.indices[i + k]], q = idOf[piece.indices[i + (k + 1) % 3]];
+      if (p != q) edges.push_back((std::uint64_t(std::min(p, q)) << 32) | std::max(p, q));
     }
+  std::sort(edges.begin(), edges.end());
   std::vector<std::vector<std::uint32_t>> borderNeighbours(at.size());
-  for (const auto& [key, uses] : edgeUses) {
-    if (uses != 1) continue;
-    const auto a = std::uint32_t(key >> 32), b = std::uint32_t(key & 0xffffffffu);
-    borderNeighbours[a].push_back(b);
-    borderNeighbours[b].push_back(a);
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t end = i + 1;
+    while (end < edges.size() && edges[end] == edges[i]) ++end;
+    if (end - i == 1) {
+      const auto p = std::uint32_t(edges[i] >> 32), q = std::uint32_t(edges[i] & 0xffffffffu);
+      borderNeighbours[p].push_back(q);
+      borderNeighbours[q].push_back(p);
+    }
+    i = end;
   }
   for (std::size_t v = 0; v < piece.positions.size(); ++v) {
     if (flags[v] == kVertexLocked) continue;
@@ -183,7 +196,7 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
     const auto target =
         std::max<std::size_t>(1, std::size_t(std::llround(double(piece.triangleCount()) / s)));
     std::vector<std::uint8_t> locked = lockBorder(piece, origin, borders);
-    markOutline(piece, blockSides, locked);
+    markOutline(piece, origin, borders, blockSides, locked);
     SimplifiedMesh simplified =
         simplifier.simplify(piece, target, locked, errorLimit(blockArea, blockTriangles, s));
     nodes[i].mesh = std::move(simplified.mesh);

@@ -1,11 +1,11 @@
 // Simplification with meshoptimizer's meshopt_simplify (edge collapses driven by quadrics).
 #include <algorithm>
 #include <cfloat>
-#include <unordered_map>
 #include <vector>
 
 #include <meshoptimizer.h>
 
+#include "builder/SamePosition.h"
 #include "builder/SimplifierImpl.h"
 
 namespace hlod {
@@ -31,9 +31,10 @@ class MeshoptSimplifier final : public Simplifier {
     // Split non-manifold vertices share a position, and meshopt would take them for attribute
     // wedges of one vertex again: move each further copy by a few micro-extents.
     const double nudge = 1e-6 * std::max(1e-9, glm::length(box.size()));
-    std::unordered_map<glm::dvec3, int, PositionHash> copies;
-    for (const auto& p : shape.positions)
-      push(p + nudge * double(copies[p]++) * glm::dvec3(1.0, 0.7, 0.3));
+    const std::vector<std::uint32_t> first = firstAtSamePosition(shape.positions);
+    std::vector<std::uint32_t> copies(shape.positions.size(), 0);  // so far, by first copy
+    for (std::size_t v = 0; v < shape.positions.size(); ++v)
+      push(shape.positions[v] + nudge * double(copies[first[v]]++) * glm::dvec3(1.0, 0.7, 0.3));
     // meshopt 0.18 has no per-vertex lock, but it never moves or removes a vertex that has three
     // or more attribute "wedges" (vertices at its position). Two unreferenced copies of each
     // locked vertex make it one; they take no part in any triangle.

@@ -69,9 +69,14 @@ std::uint32_t nearestUnlocked(const Simplifier::Shape& shape,
 Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size_t targetTriangles,
                                        double errorLimit, const ReduceFn& reduce) {
   const Mesh original = asMesh(shape, shape.indices);
-  std::vector<std::uint32_t> used = shape.indices;
-  std::sort(used.begin(), used.end());
-  used.erase(std::unique(used.begin(), used.end()), used.end());
+  // The vertices the triangles use, ascending.
+  std::vector<std::uint32_t> used;
+  {
+    std::vector<std::uint8_t> isUsed(shape.positions.size(), 0);
+    for (std::uint32_t v : shape.indices) isUsed[v] = 1;
+    for (std::uint32_t v = 0; v < isUsed.size(); ++v)
+      if (isUsed[v]) used.push_back(v);
+  }
   const double floor = 1e-4 * glm::length(original.bounds().size());
   // The spacing of targetTriangles triangles spread evenly over the surface: a simplification
   // to that many triangles need not deviate by more, whatever error the simplifier allowed
@@ -90,11 +95,14 @@ Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size
   auto checker = metrics::FacingChecker::create(original);
   if (!checker)
     return reduceOnce(shape, targetTriangles, errorLimit, reduce, true);  // no area to guard
+  // The same samples in every round (and the same as one farSamples call each would take).
+  auto sampler = metrics::FarSampler::create(original, samples);
 
   Simplifier::Shape work = shape;
   Simplifier::ReducedShape r;
   std::vector<metrics::TriangleFacing> facing;
   std::vector<metrics::FarSample> lost;
+  double farthest = 0.0;  // of all samples, from the last round's reduction
   double limit = floor;
   for (int round = 0; round <= kRepairRounds; ++round) {
     // Clustering only in the first round: later rounds may exceed the target (the locks are
@@ -106,7 +114,7 @@ Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size
     // (OpenMesh reported 0 for a wall losing 8 m), and where they overestimate they went astray.
     limit = std::max(std::min(spacing, errorLimit), floor);
     auto f = checker->check(reduced, limit);
-    auto l = metrics::farSamples(original, reduced, samples, limit);
+    auto l = sampler ? sampler->measure(reduced, limit, &farthest) : sampler.error();
     if (!f || !l) return r;  // no area to compare with: nothing to guard
     facing = std::move(*f);
     lost = std::move(*l);
@@ -157,10 +165,12 @@ Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size
       out.indices.insert(out.indices.end(), {a, b, c});
     if (facing[t].hasArea) out.geometricError = std::max(out.geometricError, facing[t].off);
   }
-  // The error is what was measured: the lost surface beyond the simplifier's own estimate.
-  if (!out.indices.empty()) {
-    auto beyond =
-        metrics::farSamples(original, asMesh(shape, out.indices), samples, out.geometricError);
+  // The error is what was measured: the lost surface beyond the simplifier's own estimate. The
+  // last round measured every sample already, unless shards went since.
+  if (out.indices.size() == r.indices.size()) {
+    out.geometricError = std::max(out.geometricError, farthest);
+  } else if (!out.indices.empty()) {
+    auto beyond = sampler->measure(asMesh(shape, out.indices), out.geometricError);
     if (beyond)
       for (const metrics::FarSample& x : *beyond)
         out.geometricError = std::max(out.geometricError, x.distance);

@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "builder/SamePosition.h"
 #include "builder/ShapeGuard.h"
 #include "builder/SimplifierImpl.h"
 
@@ -72,18 +73,17 @@ SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangle
   std::vector<glm::dvec3> uniquePos;
   std::vector<std::uint8_t> posLocked;
   {
-    std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> map;
-    map.reserve(nv);
+    const std::vector<std::uint32_t> first = firstAtSamePosition(mesh.positions);
     for (std::size_t v = 0; v < nv; ++v) {
-      auto [it, fresh] =
-          map.try_emplace(mesh.positions[v] + glm::dvec3(0.0), std::uint32_t(uniquePos.size()));
-      if (fresh) {
+      if (first[v] == v) {
+        posOf[v] = std::uint32_t(uniquePos.size());
         uniquePos.push_back(mesh.positions[v]);
         posLocked.push_back(0);
+      } else {
+        posOf[v] = posOf[first[v]];
       }
-      posOf[v] = it->second;
-      if (v < locked.size() && locked[v] && posLocked[it->second] != kVertexLocked)
-        posLocked[it->second] = locked[v];
+      if (v < locked.size() && locked[v] && posLocked[posOf[v]] != kVertexLocked)
+        posLocked[posOf[v]] = locked[v];
     }
   }
   // Triangles on positions; cornerVertex[c] is the input vertex at corner c.
@@ -123,61 +123,71 @@ SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangle
     return x;
   };
   {
-    // Per undirected edge: the triangles using it (two common, more when non-manifold).
-    std::unordered_map<std::uint64_t, std::array<std::uint32_t, 3>> edgeTriangles;
-    edgeTriangles.reserve(nc);
+    // Per undirected edge, the triangles using it (two common, more when non-manifold): the
+    // (edge, triangle) pairs sorted, an edge's in a run.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
+    edges.reserve(nc);
     for (std::size_t t = 0; t < nc / 3; ++t)
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t p = corners[3 * t + k], q = corners[3 * t + (k + 1) % 3];
-        const std::uint64_t key = (std::uint64_t(std::min(p, q)) << 32) | std::max(p, q);
-        auto [it, fresh] = edgeTriangles.try_emplace(key, std::array<std::uint32_t, 3>{0, 0, 0});
-        auto& e = it->second;
-        if (e[0] < 2) e[1 + e[0]] = std::uint32_t(t);
-        ++e[0];  // the count
+        edges.emplace_back((std::uint64_t(std::min(p, q)) << 32) | std::max(p, q),
+                           std::uint32_t(t));
       }
+    std::sort(edges.begin(), edges.end());
     auto cornerOf = [&](std::uint32_t t, std::uint32_t p) {
       for (std::uint32_t k = 0; k < 3; ++k)
         if (corners[3 * t + k] == p) return 3 * t + k;
       return 3 * t;
     };
-    for (const auto& [key, e] : edgeTriangles) {
-      if (e[0] != 2) continue;
-      for (std::uint32_t p : {std::uint32_t(key >> 32), std::uint32_t(key & 0xffffffffu)}) {
-        const std::uint32_t a = root(cornerOf(e[1], p)), b = root(cornerOf(e[2], p));
-        if (a != b) fanRoot[a] = b;
+    for (std::size_t i = 0; i < edges.size();) {
+      std::size_t end = i + 1;
+      while (end < edges.size() && edges[end].first == edges[i].first) ++end;
+      if (end - i == 2) {
+        const std::uint64_t key = edges[i].first;
+        for (std::uint32_t p : {std::uint32_t(key >> 32), std::uint32_t(key & 0xffffffffu)}) {
+          const std::uint32_t a = root(cornerOf(edges[i].second, p)),
+                              b = root(cornerOf(edges[i + 1].second, p));
+          if (a != b) fanRoot[a] = b;
+        }
       }
+      i = end;
     }
   }
   Shape shape;
   std::vector<std::uint32_t> shapeOfCorner(nc);
   {
-    std::unordered_map<std::uint32_t, std::uint32_t> shapeOfRoot;
+    std::vector<std::uint32_t> shapeOfRoot(nc, 0xffffffffu);
     for (std::size_t c = 0; c < nc; ++c) {
-      auto [it, fresh] =
-          shapeOfRoot.try_emplace(root(std::uint32_t(c)), std::uint32_t(shape.positions.size()));
-      if (fresh) {
+      std::uint32_t& s = shapeOfRoot[root(std::uint32_t(c))];
+      if (s == 0xffffffffu) {
+        s = std::uint32_t(shape.positions.size());
         shape.positions.push_back(uniquePos[corners[c]]);
         shape.locked.push_back(posLocked[corners[c]]);
       }
-      shapeOfCorner[c] = it->second;
+      shapeOfCorner[c] = s;
     }
   }
   shape.indices = shapeOfCorner;
   // wedges[firstWedge[s] .. firstWedge[s+1]) are the input vertices at shape vertex s.
   std::vector<std::uint32_t> firstWedge, wedges;
   {
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (shape vertex, input vertex)
-    pairs.reserve(nc);
-    for (std::size_t c = 0; c < nc; ++c) pairs.emplace_back(shapeOfCorner[c], cornerVertex[c]);
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    firstWedge.assign(shape.positions.size() + 1, 0);
-    for (const auto& [sv, v] : pairs) {
-      ++firstWedge[sv + 1];
-      wedges.push_back(v);
+    // The corners' input vertices bucketed by shape vertex, then each (small) bucket sorted and
+    // without repeats.
+    const std::size_t ns = shape.positions.size();
+    std::vector<std::uint32_t> start(ns + 1, 0);
+    for (std::size_t c = 0; c < nc; ++c) ++start[shapeOfCorner[c] + 1];
+    for (std::size_t sv = 0; sv < ns; ++sv) start[sv + 1] += start[sv];
+    std::vector<std::uint32_t> bucketed(nc);
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t c = 0; c < nc; ++c) bucketed[fill[shapeOfCorner[c]]++] = cornerVertex[c];
+    firstWedge.assign(ns + 1, 0);
+    wedges.reserve(nc);
+    for (std::size_t sv = 0; sv < ns; ++sv) {
+      const auto b = bucketed.begin() + start[sv], e = bucketed.begin() + start[sv + 1];
+      std::sort(b, e);
+      wedges.insert(wedges.end(), b, std::unique(b, e));
+      firstWedge[sv + 1] = std::uint32_t(wedges.size());
     }
-    for (std::size_t sv = 0; sv < shape.positions.size(); ++sv)
-      firstWedge[sv + 1] += firstWedge[sv];
   }
 
   const ReducedShape reduced =

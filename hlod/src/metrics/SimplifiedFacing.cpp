@@ -28,6 +28,8 @@ Result<Faces> faces(const Mesh& mesh, const char* role) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       return makeError(what + " has a non-finite position");
   Faces out;
+  out.triangles.reserve(mesh.indices.size() / 3);
+  out.normals.reserve(mesh.indices.size() / 3);
   for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
     Triangle t;
     for (int k = 0; k < 3; ++k) {
@@ -65,13 +67,16 @@ Result<FacingChecker> FacingChecker::create(const Mesh& original) {
   Result<Faces> ref = faces(original, "original");
   if (!ref) return ref.error();
   // Only faces with area stand for a surface (and have a normal to compare with).
-  std::vector<Triangle> triangles;
-  std::vector<glm::dvec3> normals;
-  for (std::size_t i = 0; i < ref->triangles.size(); ++i) {
-    if (ref->normals[i] == glm::dvec3(0.0)) continue;
-    triangles.push_back(ref->triangles[i]);
-    normals.push_back(ref->normals[i]);
+  std::vector<Triangle>& triangles = ref->triangles;
+  std::vector<glm::dvec3>& normals = ref->normals;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    if (normals[i] == glm::dvec3(0.0)) continue;
+    triangles[kept] = triangles[i];
+    normals[kept++] = normals[i];
   }
+  triangles.resize(kept);
+  normals.resize(kept);
   if (triangles.empty()) return makeError("facing check: the original mesh has no area");
   const double slack = 1e-6 * glm::length(original.bounds().size());
   return FacingChecker(
@@ -84,19 +89,25 @@ Result<std::vector<TriangleFacing>> FacingChecker::check(const Mesh& simplified,
   if (!test) return test.error();
   const TriangleBvh& bvh = index_->bvh;
   std::vector<TriangleFacing> out(test->triangles.size());
+  std::vector<std::uint32_t> near;
+  // Neighbouring points are near the same face.
+  std::uint32_t hint = TriangleBvh::kNoHint, nearHint = TriangleBvh::kNoHint;
+  const double offLimit2 = offLimit * offLimit;
   for (std::size_t i = 0; i < test->triangles.size(); ++i) {
     const glm::dvec3& n = test->normals[i];
     if (n == glm::dvec3(0.0)) continue;
     const Triangle& t = test->triangles[i];
     const glm::dvec3 centroid = (t[0] + t[1] + t[2]) / 3.0;
+    double centroid2 = 0.0;
+    bvh.nearest(centroid, index_->slack, near, &centroid2, &nearHint);
     double best = -2.0;
-    for (std::uint32_t id : bvh.nearest(centroid, index_->slack))
-      best = std::max(best, glm::dot(index_->normals[id], n));
-    const glm::dvec3 points[4] = {centroid, 0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2]),
-                                  0.5 * (t[2] + t[0])};
-    double off = 0.0;
-    for (const glm::dvec3& p : points)
-      if (!(offLimit > 0.0 && bvh.within(p, offLimit))) off = std::max(off, bvh.distance(p));
+    for (std::uint32_t id : near) best = std::max(best, glm::dot(index_->normals[id], n));
+    // The centroid's distance is the nearest search's own; the edge midpoints are measured.
+    double off = offLimit > 0.0 && centroid2 <= offLimit2 ? 0.0 : std::sqrt(centroid2);
+    const glm::dvec3 midpoints[3] = {0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2]), 0.5 * (t[2] + t[0])};
+    for (const glm::dvec3& p : midpoints)
+      if (!(offLimit > 0.0 && bvh.within2(p, offLimit2, hint)))
+        off = std::max(off, bvh.distance(p));
     out[i] = {true, best < kOpposing, off};
   }
   return out;

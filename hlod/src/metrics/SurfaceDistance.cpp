@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -114,22 +115,52 @@ Result<SurfaceDistance> surfaceDistance(const Mesh& a, const Mesh& b, std::size_
 
 Result<std::vector<FarSample>> farSamples(const Mesh& original, const Mesh& simplified,
                                           std::size_t samples, double limit, std::uint64_t seed) {
+  Result<FarSampler> sampler = FarSampler::create(original, samples, seed);
+  if (!sampler) return sampler.error();
+  return sampler->measure(simplified, limit);
+}
+
+Result<FarSampler> FarSampler::create(const Mesh& original, std::size_t samples,
+                                      std::uint64_t seed) {
   if (samples == 0) return makeError("far samples: samples must be > 0");
-  Result<std::vector<Triangle>> trisA = triangles(original, "a");
-  if (!trisA) return trisA.error();
-  Result<std::vector<Triangle>> trisB = triangles(simplified, "b");
-  if (!trisB) return trisB.error();
+  Result<std::vector<Triangle>> tris = triangles(original, "a");
+  if (!tris) return tris.error();
   std::mt19937_64 rng(seed);
-  std::vector<std::uint32_t> source;
-  Result<std::vector<glm::dvec3>> points = samplePoints(*trisA, samples, rng, "a", &source);
+  FarSampler s;
+  Result<std::vector<glm::dvec3>> points = samplePoints(*tris, samples, rng, "a", &s.source_);
   if (!points) return points.error();
-  const TriangleBvh bvh(std::move(*trisB));
-  std::vector<FarSample> out;
-  for (std::size_t i = 0; i < points->size(); ++i) {
-    const glm::dvec3& p = (*points)[i];
-    if (bvh.within(p, limit)) continue;
-    out.push_back({p, source[i], bvh.distance(p)});
+  s.points_ = std::move(*points);
+  s.order_.resize(s.points_.size());
+  std::iota(s.order_.begin(), s.order_.end(), 0u);
+  std::stable_sort(s.order_.begin(), s.order_.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return s.source_[a] < s.source_[b]; });
+  return s;
+}
+
+Result<std::vector<FarSample>> FarSampler::measure(const Mesh& simplified, double limit,
+                                                   double* maxDistance) const {
+  Result<std::vector<Triangle>> tris = triangles(simplified, "b");
+  if (!tris) return tris.error();
+  const TriangleBvh bvh(std::move(*tris));
+  const double limit2 = limit * limit;
+  // The largest squared distance so far: a point within it (or within the limit, once the
+  // largest is past it) changes nothing, and that takes only the first triangle found.
+  double max2 = maxDistance ? 0.0 : limit2;
+  std::uint32_t hint = TriangleBvh::kNoHint;
+  std::vector<std::pair<std::uint32_t, FarSample>> far;
+  for (std::uint32_t k : order_) {
+    const glm::dvec3& p = points_[k];
+    if (bvh.within2(p, std::min(max2, limit2), hint)) continue;
+    const double d2 = bvh.distance2(p);
+    max2 = std::max(max2, d2);
+    if (!(d2 <= limit2)) far.emplace_back(k, FarSample{p, source_[k], std::sqrt(d2)});
   }
+  if (maxDistance) *maxDistance = std::sqrt(max2);
+  // In the order of the samples, as farSamples gives them.
+  std::sort(far.begin(), far.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<FarSample> out;
+  out.reserve(far.size());
+  for (const auto& [k, x] : far) out.push_back(x);
   return out;
 }
 

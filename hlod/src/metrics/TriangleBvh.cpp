@@ -19,11 +19,6 @@ double segmentDistance2(const glm::dvec3& p, const glm::dvec3& a, const glm::dve
   return glm::dot(d, d);
 }
 
-double boxDistance2(const glm::dvec3& p, const Aabb& box) {
-  const glm::dvec3 d = glm::max(glm::max(box.min - p, p - box.max), glm::dvec3(0.0));
-  return glm::dot(d, d);
-}
-
 double edgesDistance2(const glm::dvec3& p, const Triangle& t) {
   return std::min({segmentDistance2(p, t[0], t[1]), segmentDistance2(p, t[1], t[2]),
                    segmentDistance2(p, t[2], t[0])});
@@ -62,63 +57,129 @@ double faceDistance2(const glm::dvec3& p, const Triangle& t) {
   return distance2(a + (vb / denominator) * ab + (vc / denominator) * ac);
 }
 
-double pointTriangleDistance2(const glm::dvec3& p, const Triangle& t) {
-  // Collinear or coincident corners: the region tests would divide by ~0; such a triangle is
-  // its edges. So is one whose squares underflow (a NaN from the face test).
+// Collinear or coincident corners: the region tests would divide by ~0; such a triangle is its
+// edges.
+bool isFlat(const Triangle& t) {
   const glm::dvec3 ab = t[1] - t[0];
   const glm::dvec3 ac = t[2] - t[0];
   const glm::dvec3 n = glm::cross(ab, ac);
-  if (glm::dot(n, n) <= 1e-24 * glm::dot(ab, ab) * glm::dot(ac, ac)) return edgesDistance2(p, t);
+  return glm::dot(n, n) <= 1e-24 * glm::dot(ab, ab) * glm::dot(ac, ac);
+}
+
+double pointTriangleDistance2(const glm::dvec3& p, const Triangle& t, bool flat) {
+  if (flat) return edgesDistance2(p, t);
+  // So is one whose squares underflow (a NaN from the face test).
   const double d2 = faceDistance2(p, t);
   return std::isfinite(d2) ? d2 : edgesDistance2(p, t);
+}
+
+// The float just below (down) or above x: a box rounded outwards.
+float floatDown(double x) {
+  const float f = static_cast<float>(x);
+  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+float floatUp(double x) {
+  const float f = static_cast<float>(x);
+  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
 
 }  // namespace
 
 double pointTriangleDistance(const glm::dvec3& p, const Triangle& t) {
-  return std::sqrt(pointTriangleDistance2(p, t));
+  return std::sqrt(pointTriangleDistance2(p, t, isFlat(t)));
 }
 
 TriangleBvh::TriangleBvh(std::vector<Triangle> triangles) {
   assert(!triangles.empty());
-  // Built on (triangle, id) items, contiguous for the splits; split into the two arrays after.
-  std::vector<Item> items(triangles.size());
-  for (std::uint32_t i = 0; i < items.size(); ++i) items[i] = {triangles[i], i};
-  triangles = {};
-  nodes_.reserve(2 * items.size() / kLeafSize + 1);
-  build(items, 0, static_cast<std::uint32_t>(items.size()));
-  triangles_.resize(items.size());
-  ids_.resize(items.size());
-  for (std::size_t i = 0; i < items.size(); ++i) triangles_[i] = items[i].t, ids_[i] = items[i].id;
+  const auto n = static_cast<std::uint32_t>(triangles.size());
+  Aabb all;
+  for (const Triangle& t : triangles)
+    for (const glm::dvec3& v : t) all.extend(v);
+  origin_ = all.centre();
+  // Far above the rounding of the relative coordinates and of the distances (about 1e-16 of the
+  // coordinates' magnitude), far below any distance that matters.
+  const glm::dvec3 magnitude = glm::abs(origin_) + all.size();
+  margin_ = 1e-9 * std::max({magnitude.x, magnitude.y, magnitude.z});
+  // The splits move small items (a centroid in float: any split is right, only the tree's shape
+  // depends on it), not the triangles, which are put in leaf order once, at the end.
+  std::vector<BuildItem> items(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Triangle& t = triangles[i];
+    items[i] = {glm::vec3((t[0] + t[1] + t[2]) / 3.0 - origin_), i};
+  }
+  nodes_.reserve(2 * n / kLeafSize + 1);
+  build(items, 0, n);
+  ids_.reserve(n);
+  for (const BuildItem& item : items) ids_.push_back(item.id);
+  items = {};
+  // The triangles into leaf order in place (triangles_[i] = triangles[ids_[i]]), cycle by cycle:
+  // no second copy of them. flat_ marks the places done until it gets its meaning.
+  flat_.assign(n, 0);
+  for (std::uint32_t start = 0; start < n; ++start) {
+    if (flat_[start]) continue;
+    const Triangle saved = triangles[start];
+    std::uint32_t i = start;
+    for (;;) {
+      flat_[i] = 1;
+      const std::uint32_t from = ids_[i];
+      if (from == start) {
+        triangles[i] = saved;
+        break;
+      }
+      triangles[i] = triangles[from];
+      i = from;
+    }
+  }
+  triangles_ = std::move(triangles);
+  for (std::uint32_t i = 0; i < n; ++i) flat_[i] = isFlat(triangles_[i]);
+  // Boxes bottom up (children follow their parent): a leaf's from its triangles, a parent's the
+  // union of its children's.
+  for (std::size_t k = nodes_.size(); k-- > 0;) {
+    Node& node = nodes_[k];
+    if (node.count == 0) {
+      const Node& l = nodes_[k + 1];
+      const Node& r = nodes_[node.first];
+      for (int a = 0; a < 3; ++a) {
+        node.min[a] = std::min(l.min[a], r.min[a]);
+        node.max[a] = std::max(l.max[a], r.max[a]);
+      }
+      continue;
+    }
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+    for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+      for (const glm::dvec3& v : triangles_[i]) {
+        lo = glm::min(lo, v - origin_);
+        hi = glm::max(hi, v - origin_);
+      }
+    for (int a = 0; a < 3; ++a) {
+      node.min[a] = floatDown(lo[a] - margin_);
+      node.max[a] = floatUp(hi[a] + margin_);
+    }
+  }
 }
 
 // Median split along the longest axis of the centroids' box; the left child is stored right
 // after its parent.
-std::uint32_t TriangleBvh::build(std::vector<Item>& items, std::uint32_t first,
+std::uint32_t TriangleBvh::build(std::vector<BuildItem>& items, std::uint32_t first,
                                  std::uint32_t count) {
-  const std::uint32_t index = static_cast<std::uint32_t>(nodes_.size());
+  const auto index = static_cast<std::uint32_t>(nodes_.size());
   nodes_.push_back({});
-  Aabb box, centres;
-  for (std::uint32_t i = first; i < first + count; ++i) {
-    const Triangle& t = items[i].t;
-    for (const glm::dvec3& v : t) box.extend(v);
-    centres.extend((t[0] + t[1] + t[2]) / 3.0);
-  }
-  nodes_[index].box = box;
   if (count <= kLeafSize) {
     nodes_[index].first = first;
     nodes_[index].count = count;
     return index;
   }
-  const glm::dvec3 extent = centres.size();
+  glm::vec3 lo = items[first].centre, hi = lo;
+  for (std::uint32_t i = first + 1; i < first + count; ++i) {
+    lo = glm::min(lo, items[i].centre);
+    hi = glm::max(hi, items[i].centre);
+  }
+  const glm::vec3 extent = hi - lo;
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
   const std::uint32_t half = count / 2;
-  const auto centre = [axis](const Item& it) {
-    return it.t[0][axis] + it.t[1][axis] + it.t[2][axis];
-  };
-  std::nth_element(items.begin() + first, items.begin() + first + half,
-                   items.begin() + first + count,
-                   [&](const Item& l, const Item& r) { return centre(l) < centre(r); });
+  std::nth_element(
+      items.begin() + first, items.begin() + first + half, items.begin() + first + count,
+      [axis](const BuildItem& l, const BuildItem& r) { return l.centre[axis] < r.centre[axis]; });
   build(items, first, half);
   const std::uint32_t right = build(items, first + half, count - half);
   nodes_[index].first = right;
@@ -126,75 +187,159 @@ std::uint32_t TriangleBvh::build(std::vector<Item>& items, std::uint32_t first,
   return index;
 }
 
+// Squared distance from q to the node's box (both relative to origin_).
+inline double TriangleBvh::boxDistance2(const glm::dvec3& q, const Node& node) {
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double below = double(node.min[k]) - q[k];
+    const double above = q[k] - double(node.max[k]);
+    const double d = below > 0.0 ? below : above > 0.0 ? above : 0.0;
+    d2 += d * d;
+  }
+  return d2;
+}
+
+inline double TriangleBvh::triangleDistance2(const glm::dvec3& p, std::uint32_t i) const {
+  return pointTriangleDistance2(p, triangles_[i], flat_[i] != 0);
+}
+
 double TriangleBvh::distance(const glm::dvec3& p) const {
+  return std::sqrt(distance2(p));
+}
+
+double TriangleBvh::distance2(const glm::dvec3& p) const {
+  const glm::dvec3 q = p - origin_;
   double best2 = std::numeric_limits<double>::infinity();
-  // Depth-first, the nearer child first, skipping boxes no nearer than the best so far.
-  std::uint32_t stack[64];
+  // Depth-first, the nearer child first, skipping boxes no nearer than the best so far (each
+  // box's distance kept with it on the stack).
+  struct Entry {
+    std::uint32_t node;
+    double d2;
+  };
+  Entry stack[64];
   int top = 0;
-  stack[top++] = 0;
+  stack[top++] = {0, boxDistance2(q, nodes_[0])};
   while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (boxDistance2(p, node.box) >= best2) continue;
+    const Entry e = stack[--top];
+    if (e.d2 >= best2) continue;
+    const Node& node = nodes_[e.node];
     if (node.count > 0) {
-      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-        best2 = std::min(best2, pointTriangleDistance2(p, triangles_[i]));
-      }
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+        best2 = std::min(best2, triangleDistance2(p, i));
       continue;
     }
-    const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
-    const std::uint32_t right = node.first;
-    const double dl = boxDistance2(p, nodes_[left].box);
-    const double dr = boxDistance2(p, nodes_[right].box);
-    const bool leftFirst = dl <= dr;
+    const Entry left{e.node + 1, boxDistance2(q, nodes_[e.node + 1])};
+    const Entry right{node.first, boxDistance2(q, nodes_[node.first])};
+    const bool leftFirst = left.d2 <= right.d2;
     assert(top + 2 <= 64);  // depth-first: at most one more entry per level (depth < 40)
-    const std::uint32_t nearer = leftFirst ? left : right;
-    const std::uint32_t farther = leftFirst ? right : left;
-    if ((leftFirst ? dr : dl) < best2) stack[top++] = farther;
-    if ((leftFirst ? dl : dr) < best2) stack[top++] = nearer;
+    const Entry& nearer = leftFirst ? left : right;
+    const Entry& farther = leftFirst ? right : left;
+    if (farther.d2 < best2) stack[top++] = farther;
+    if (nearer.d2 < best2) stack[top++] = nearer;
   }
-  return std::sqrt(best2);
+  return best2;
 }
 
 bool TriangleBvh::within(const glm::dvec3& p, double r) const {
-  const double r2 = r * r;
+  std::uint32_t hint = kNoHint;
+  return within2(p, r * r, hint);
+}
+
+bool TriangleBvh::within2(const glm::dvec3& p, double r2, std::uint32_t& hint) const {
+  if (hint < triangles_.size() && triangleDistance2(p, hint) <= r2) return true;
+  const glm::dvec3 q = p - origin_;
+  if (boxDistance2(q, nodes_[0]) > r2) return false;
+  // The nearer child first: the search ends at the first triangle found.
   std::uint32_t stack[64];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (boxDistance2(p, node.box) > r2) continue;
+    const std::uint32_t index = stack[--top];
+    const Node& node = nodes_[index];
     if (node.count > 0) {
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
-        if (pointTriangleDistance2(p, triangles_[i]) <= r2) return true;
+        if (triangleDistance2(p, i) <= r2) {
+          hint = i;
+          return true;
+        }
       continue;
     }
+    const double dl = boxDistance2(q, nodes_[index + 1]);
+    const double dr = boxDistance2(q, nodes_[node.first]);
+    const bool leftFirst = dl <= dr;
     assert(top + 2 <= 64);
-    stack[top++] = node.first;
-    stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+    if ((leftFirst ? dr : dl) <= r2) stack[top++] = leftFirst ? node.first : index + 1;
+    if ((leftFirst ? dl : dr) <= r2) stack[top++] = leftFirst ? index + 1 : node.first;
   }
   return false;
 }
 
 std::vector<std::uint32_t> TriangleBvh::nearest(const glm::dvec3& p, double slack) const {
-  assert(slack >= 0.0);
-  const double limit = distance(p) + slack;
-  const double limit2 = limit * limit;
   std::vector<std::uint32_t> out;
-  std::vector<std::uint32_t> stack{0};
-  while (!stack.empty()) {
-    const Node& node = nodes_[stack.back()];
-    stack.pop_back();
-    if (boxDistance2(p, node.box) > limit2) continue;
+  nearest(p, slack, out);
+  return out;
+}
+
+void TriangleBvh::nearest(const glm::dvec3& p, double slack, std::vector<std::uint32_t>& out,
+                          double* closest2, std::uint32_t* hint) const {
+  assert(slack >= 0.0);
+  // One pass: the closest distance so far plus slack bounds the search (it only shrinks), so
+  // every triangle within the final bound is met; those past it go at the end. The hint's
+  // triangle, taken first, bounds it from the start.
+  const glm::dvec3 q = p - origin_;
+  double best2 = std::numeric_limits<double>::infinity();
+  double bound2 = best2;
+  std::uint32_t closest = kNoHint;
+  const std::uint32_t first = hint && *hint < triangles_.size() ? *hint : kNoHint;
+  out.clear();  // leaf indices first
+  if (first != kNoHint) {
+    best2 = triangleDistance2(p, first);
+    const double bound = std::sqrt(best2) + slack;
+    bound2 = bound * bound;
+    closest = first;
+    out.push_back(first);
+  }
+  struct Entry {
+    std::uint32_t node;
+    double d2;
+  };
+  Entry stack[64];
+  int top = 0;
+  stack[top++] = {0, boxDistance2(q, nodes_[0])};
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.d2 > bound2) continue;
+    const Node& node = nodes_[e.node];
     if (node.count > 0) {
-      for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
-        if (pointTriangleDistance2(p, triangles_[i]) <= limit2) out.push_back(ids_[i]);
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+        if (i == first) continue;
+        const double d2 = triangleDistance2(p, i);
+        if (d2 < best2) {
+          best2 = d2;
+          closest = i;
+          const double bound = std::sqrt(best2) + slack;
+          bound2 = bound * bound;
+        }
+        if (d2 <= bound2) out.push_back(i);
+      }
       continue;
     }
-    stack.push_back(static_cast<std::uint32_t>(&node - nodes_.data()) + 1);
-    stack.push_back(node.first);
+    const Entry left{e.node + 1, boxDistance2(q, nodes_[e.node + 1])};
+    const Entry right{node.first, boxDistance2(q, nodes_[node.first])};
+    const bool leftFirst = left.d2 <= right.d2;
+    assert(top + 2 <= 64);
+    const Entry& nearer = leftFirst ? left : right;
+    const Entry& farther = leftFirst ? right : left;
+    if (farther.d2 <= bound2) stack[top++] = farther;
+    if (nearer.d2 <= bound2) stack[top++] = nearer;
   }
+  if (closest2) *closest2 = best2;
+  if (hint) *hint = closest;
+  std::size_t kept = 0;
+  for (std::uint32_t i : out)
+    if (triangleDistance2(p, i) <= bound2) out[kept++] = ids_[i];
+  out.resize(kept);
   std::sort(out.begin(), out.end());
-  return out;
 }
 
 }  // namespace hlod::metrics

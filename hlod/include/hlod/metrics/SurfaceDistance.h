@@ -44,4 +44,21 @@ Result<std::vector<FarSample>> farSamples(const Mesh& original, const Mesh& simp
                                           std::size_t samples, double limit,
                                           std::uint64_t seed = 1);
 
+// farSamples for many simplifications of one original: its samples are taken once.
+class FarSampler {
+ public:
+  // An Error for the originals farSamples refuses, or samples 0.
+  static Result<FarSampler> create(const Mesh& original, std::size_t samples,
+                                   std::uint64_t seed = 1);
+  // farSamples(original, simplified, samples, limit, seed); with maxDistance, also the largest
+  // distance of any sample (however near).
+  Result<std::vector<FarSample>> measure(const Mesh& simplified, double limit,
+                                         double* maxDistance = nullptr) const;
+
+ private:
+  std::vector<glm::dvec3> points_;
+  std::vector<std::uint32_t> source_;  // per point, its triangle of the original
+  std::vector<std::uint32_t> order_;   // the points by triangle: neighbours measured in a row
+};
+
 }  // namespace hlod::metrics
