@@ -317,3 +317,46 @@ TEST(GpuResidency, NodesSharingAnImageShareItsTextureOnTheGpu) {
   residency.evict(1);
   EXPECT_EQ(residency.gpuBytes(), buffers + texture);
 }
+
+// Parry's hybrid drawing on the GPU: a mesh with a progression drawn with fewer triangles shows
+// only those (the buffer's front rewritten, and back), and drawn as splats shows its points.
+TEST(GpuMesh, DrawsAProgressionAtAnyCountAndSplatsAsPoints) {
+  auto ctx = contextOrSkip(Backend::Auto);
+  ASSERT_TRUE(ctx) << "no GL context";
+  // A quad whose first triangle (0 2 3) the progression decimates: vertex 3 moves into vertex 4.
+  hlod::Mesh m = quad(-1, -1, 1, 1, 0, {0.9f, 0.9f, 0.9f, 1});
+  m.positions.push_back({0, 0, 0});
+  m.normals.emplace_back(0, 0, 1);
+  m.indices = {0, 2, 3, 0, 1, 2};
+  m.progression.moves = {3, 4};
+  m.progression.moveEnd = {1};
+  m.progression.increments = {1};
+  auto local = std::make_shared<hlod::LocalMesh>(hlod::toLocal(m));
+  local->splats.push_back({glm::vec3(0.0f) - glm::vec3(local->centre), 0.3f, {0, 0, 1}, {0, 0}});
+  auto gpu = renderer::GpuMesh::upload(ctx->gl(), std::shared_ptr<const hlod::LocalMesh>(local));
+  ASSERT_TRUE(gpu) << gpu.message();
+
+  renderer::RenderOptions options;
+  options.width = 160;
+  options.height = 120;
+  auto r = renderer::Renderer::create(*ctx, options);
+  ASSERT_TRUE(r) << r.message();
+  const auto view = renderer::makeFrameView({0, -2, 4}, {0, 0, 0}, {0, 0, 1}, 50.0, 160.0 / 120,
+                                            0.1, 100.0);
+  const auto covered = [&](hlod::NodeDraw d) {
+    gpu->setDraw(ctx->gl(), d);
+    const std::vector<const renderer::GpuMesh*> list{&*gpu};
+    (*r)->drawFrame(view, list);
+    const auto mask = (*r)->coverage();
+    return std::count(mask.covered.begin(), mask.covered.end(), 1);
+  };
+  const auto whole = covered({2, false});
+  const auto half = covered({1, false});
+  const auto splats = covered({0, true});
+  EXPECT_GT(whole, 2000);
+  EXPECT_NEAR(double(half), 0.5 * double(whole), 0.1 * double(whole));
+  EXPECT_GT(splats, 20);
+  EXPECT_LT(splats, half);
+  EXPECT_EQ(covered({2, false}), whole);  // the whole index buffer is back
+  EXPECT_EQ(covered({0, false}), half);   // never below the coarsest
+}
