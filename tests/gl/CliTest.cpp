@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -210,4 +211,24 @@ TEST_F(HlodrCli, StudyBuildComparesTheSimplifiersPerLevelAndWritesJsonAndCsv) {
   const auto bad = hlodr("study-build " + model + " --simplifiers qslim");
   EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_NE(bad.output.find("qslim"), std::string::npos) << bad.output;
+}
+
+TEST_F(HlodrCli, StudyPassesParamsToTheStudiedRunsAndNamesAWrongOne) {
+  const auto c = hlodr("city -o " + path("city") + " --blocks 1 --texture 64 --quiet");
+  ASSERT_EQ(c.status, 0) << c.output;
+  const auto b = hlodr("build " + path("city") + " -o " + path("c.hlod") + " --quiet");
+  ASSERT_EQ(b.status, 0) << b.output;
+  const std::string study = "study " + path("c.hlod") +
+                            " --kind orbit --frames 2 --budgets 33 --selectors lakhia "
+                            "--sse-px 4 --strips 0 --size 160x90 --quiet ";
+  const auto r = hlodr(study + "-o " + path("st") + " --params progressive=0,splats=1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream report(dir / "st" / "study.json");
+  std::stringstream text;
+  text << report.rdbuf();
+  EXPECT_NE(text.str().find("\"params\": \"progressive=0,splats=1\""), std::string::npos);
+  const auto bad = hlodr(study + "-o " + path("st2") + " --params nope=1");
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_NE(bad.output.find("nope"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(dir / "st2"));
 }

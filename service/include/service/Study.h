@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hlod/runtime/CameraPath.h"
+#include "hlod/runtime/Selector.h"
 #include "hlod/scene/SceneFile.h"
 #include "hlod/store/NodeSource.h"
 #include "hlod/study/StudyReport.h"
@@ -32,6 +33,9 @@ struct StudyOptions {
   bool realtime = false;
   std::size_t stripFrames = 3;  // frames shown in strips at every Lakhia budget
   std::uint64_t memoryCapBytes = 0;
+  // Selector constants of every studied run (`--params`: splats, progressive, c_aim ...); the
+  // reference draws full detail with the defaults.
+  hlod::SelectorParams selectorParams;
   // What every frame draws, the reference's too: what `hlodr render` draws without a scene
   // (textures, lambert, sun), so that the errors are those a user sees, not of flat silhouettes.
   hlod::SceneEffects effects = hlod::defaultEffects();

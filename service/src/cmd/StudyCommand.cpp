@@ -31,6 +31,8 @@ const char* const kStudyUsage =
     "  --mode M            settled (default), realtime or both\n"
     "  --strips N          frames shown in strips at every Lakhia budget (default 3)\n"
     "  --memory-mb N       loader memory cap per session (default: none)\n"
+    "  --params N=V,...    selector constants of the studied runs, as for `hlodr render`\n"
+    "                      (splats=1, progressive=0 ...); the reference uses the defaults\n"
     "  --scene FILE        the effects every frame draws (docs/scene.md; default: textures,\n"
     "                      lambert shading and the sun, as `hlodr render`); or --unlit,\n"
     "                      --no-textures, --fog\n"
@@ -61,7 +63,7 @@ hlod::Result<std::vector<double>> numberList(const std::string& s, double lo, do
 int runStudy(const Argv& argv) {
   auto args = Args::parse(argv, {"quiet", "unlit", "no-textures", "fog"},
                           {"output", "path", "kind", "budgets", "selectors", "sse-px", "size",
-                           "frames", "fps", "mode", "strips", "memory-mb", "scene"});
+                           "frames", "fps", "mode", "strips", "memory-mb", "scene", "params"});
   if (!args) return commandError("study", args.message() + "\n" + kStudyUsage, 2);
   if (args->positionals().size() != 1)
     return commandError(
@@ -101,6 +103,8 @@ int runStudy(const Argv& argv) {
   o.fps = *fps;
   o.stripFrames = std::size_t(*strips);
   o.memoryCapBytes = std::uint64_t(*memory * 1048576.0);
+  if (auto p = hlod::setSelectorParams(o.selectorParams, args->get("params", "")); !p)
+    return commandError("study", "--params: " + p.message(), 2);
   const std::string mode = args->get("mode", "settled");
   if (mode != "settled" && mode != "realtime" && mode != "both")
     return commandError("study", "--mode must be settled, realtime or both", 2);
@@ -134,6 +138,7 @@ int runStudy(const Argv& argv) {
       {"budgets", o.budgets},
       {"selectors", o.selectors},
       {"ssePx", o.ssePx},
+      {"params", args->get("params", "")},
       {"scene", declared->fromFile ? declared->file.string() : std::string("default effects")}};
   ProgressLine progress("study", args->has("quiet"));
   auto report = service::runStudy(

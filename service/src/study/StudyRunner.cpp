@@ -132,6 +132,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   double knownVTime = 0.0;
   for (const StudyConfig& c : configs) {
     SessionOptions so = base;
+    so.selectorParams = o.selectorParams;
     so.selector = c.selector;
     so.budgetMs = c.budgetMs;
     so.selectorParams.ssePixels = c.ssePx > 0.0 ? c.ssePx : so.selectorParams.ssePixels;
