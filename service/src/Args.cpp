@@ -73,6 +73,14 @@ hlod::Result<double> Args::number(const std::string& name, double fallback, doub
   return x;
 }
 
+hlod::Result<bool> Args::onOff(const std::string& name, bool fallback) const {
+  const auto v = get(name);
+  if (!v) return fallback;
+  if (*v != "on" && *v != "off")
+    return hlod::makeError("--" + name + ": '" + *v + "' must be on or off");
+  return *v == "on";
+}
+
 hlod::Result<long long> Args::integer(const std::string& name, long long fallback, long long lo,
                                       long long hi) const {
   const auto v = get(name);

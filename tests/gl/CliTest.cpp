@@ -221,12 +221,16 @@ TEST_F(HlodrCli, StudyPassesParamsToTheStudiedRunsAndNamesAWrongOne) {
   const std::string study = "study " + path("c.hlod") +
                             " --kind orbit --frames 2 --budgets 33 --selectors lakhia "
                             "--sse-px 4 --strips 0 --size 160x90 --quiet ";
-  const auto r = hlodr(study + "-o " + path("st") + " --params progressive=0,splats=1");
+  const auto r = hlodr(study + "-o " + path("st") + " --params progressive=0 --splats on");
   ASSERT_EQ(r.status, 0) << r.output;
   std::ifstream report(dir / "st" / "study.json");
   std::stringstream text;
   text << report.rdbuf();
-  EXPECT_NE(text.str().find("\"params\": \"progressive=0,splats=1\""), std::string::npos);
+  EXPECT_NE(text.str().find("\"params\": \"progressive=0\""), std::string::npos);
+  EXPECT_NE(text.str().find("\"splats\": true"), std::string::npos);
+  const auto maybe = hlodr(study + "-o " + path("st3") + " --splats maybe");
+  EXPECT_EQ(maybe.status, 2) << maybe.output;
+  EXPECT_NE(maybe.output.find("--splats"), std::string::npos) << maybe.output;
   const auto bad = hlodr(study + "-o " + path("st2") + " --params nope=1");
   EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_NE(bad.output.find("nope"), std::string::npos) << bad.output;

@@ -26,6 +26,8 @@ class Args {
   hlod::Result<double> number(const std::string& name, double fallback, double lo, double hi) const;
   hlod::Result<long long> integer(const std::string& name, long long fallback, long long lo,
                                   long long hi) const;
+  // A switch `--name on|off`: fallback when absent, an Error naming it for any other value.
+  hlod::Result<bool> onOff(const std::string& name, bool fallback) const;
   // A frame size WxH (fallback when absent, and the message's example), each side in [lo, hi].
   struct Size {
     int width = 0;

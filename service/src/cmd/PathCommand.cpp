@@ -100,8 +100,8 @@ int runPath(const Argv& argv) {
 }
 
 const std::set<std::string> kPathRunOptions = {
-    "budget-ms",     "selector", "mode",      "memory-mb", "fps",        "io-mbps",
-    "io-latency-ms", "frames",   "upload-ms", "params",    "io-requests"};
+    "budget-ms",     "selector", "mode",      "memory-mb", "fps",         "io-mbps",
+    "io-latency-ms", "frames",   "upload-ms", "params",    "io-requests", "splats"};
 const std::set<std::string> kPathRunFlags = {"prefetch", "plots"};
 
 hlod::Result<Args> parseWithPathRun(const Argv& argv, std::set<std::string> flags,
@@ -152,6 +152,9 @@ int runRenderPath(const Argv& argv) {
   so.uploadBudgetMs = *uploadMs;
   if (auto p = hlod::setSelectorParams(so.selectorParams, args->get("params", "")); !p)
     return usageError("render", "--params: " + p.message());
+  auto splats = args->onOff("splats", so.selectorParams.splats);
+  if (!splats) return usageError("render", splats.message());
+  so.selectorParams.splats = *splats;
   so.selector = args->get("selector", "lakhia");
   if (so.selector != "lakhia" && so.selector != "sse" && so.selector != "fs" &&
       so.selector != "full")

@@ -67,6 +67,8 @@ const char* const kRenderUsage =
     "  --upload-ms MS          per-frame GPU upload budget (default 2)\n"
     "  --prefetch              prefetch what the path needs 1 s ahead\n"
     "  --plots                 also levels.svg, toggles.svg, frametime.svg (Lakhia Figs. 7-9)\n"
+    "  --splats on|off         draw nodes smaller than splatPixels (default 4) on screen as\n"
+    "                          their splats, where the store has them (default off)\n"
     "  --params N=V,...        selector constants by their names in the code, e.g.\n"
     "                          c_aim=0.95,c_vis=4,feedbackGain=0.2,ssePixels=16 (defaults and\n"
     "                          meanings: hlod/include/hlod/runtime/Selector.h; a wrong name lists "

@@ -33,6 +33,7 @@ const char* const kStudyUsage =
     "  --memory-mb N       loader memory cap per session (default: none)\n"
     "  --params N=V,...    selector constants of the studied runs, as for `hlodr render`\n"
     "                      (splats=1, progressive=0 ...); the reference uses the defaults\n"
+    "  --splats on|off     as `--params splats=1|0`\n"
     "  --scene FILE        the effects every frame draws (docs/scene.md; default: textures,\n"
     "                      lambert shading and the sun, as `hlodr render`); or --unlit,\n"
     "                      --no-textures, --fog\n"
@@ -61,9 +62,10 @@ hlod::Result<std::vector<double>> numberList(const std::string& s, double lo, do
 }  // namespace
 
 int runStudy(const Argv& argv) {
-  auto args = Args::parse(argv, {"quiet", "unlit", "no-textures", "fog"},
-                          {"output", "path", "kind", "budgets", "selectors", "sse-px", "size",
-                           "frames", "fps", "mode", "strips", "memory-mb", "scene", "params"});
+  auto args =
+      Args::parse(argv, {"quiet", "unlit", "no-textures", "fog"},
+                  {"output", "path", "kind", "budgets", "selectors", "sse-px", "size", "frames",
+                   "fps", "mode", "strips", "memory-mb", "scene", "params", "splats"});
   if (!args) return commandError("study", args.message() + "\n" + kStudyUsage, 2);
   if (args->positionals().size() != 1)
     return commandError(
@@ -105,6 +107,9 @@ int runStudy(const Argv& argv) {
   o.memoryCapBytes = std::uint64_t(*memory * 1048576.0);
   if (auto p = hlod::setSelectorParams(o.selectorParams, args->get("params", "")); !p)
     return commandError("study", "--params: " + p.message(), 2);
+  auto splats = args->onOff("splats", o.selectorParams.splats);
+  if (!splats) return commandError("study", splats.message(), 2);
+  o.selectorParams.splats = *splats;
   const std::string mode = args->get("mode", "settled");
   if (mode != "settled" && mode != "realtime" && mode != "both")
     return commandError("study", "--mode must be settled, realtime or both", 2);
@@ -139,6 +144,7 @@ int runStudy(const Argv& argv) {
       {"selectors", o.selectors},
       {"ssePx", o.ssePx},
       {"params", args->get("params", "")},
+      {"splats", o.selectorParams.splats},
       {"scene", declared->fromFile ? declared->file.string() : std::string("default effects")}};
   ProgressLine progress("study", args->has("quiet"));
   auto report = service::runStudy(
