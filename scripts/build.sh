@@ -18,5 +18,11 @@ if [ "${1:-}" = "--sanitize" ]; then
   cmake --build build-asan -j"$(nproc)"
   exit 0
 fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHLODR_WERROR=ON >/dev/null
+# Under CI (a clean clone, built once) a unity build too: 8 sources per compiler run took the
+# clean build from about 640 s to 420 s here. Developers keep one compiler run per source, for
+# quick rebuilds after an edit.
+unity=OFF
+[ -n "${CI:-}" ] && unity=ON
+cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHLODR_WERROR=ON \
+  -DCMAKE_UNITY_BUILD="$unity" >/dev/null
 cmake --build build -j"$(nproc)"

@@ -80,10 +80,10 @@ TEST_F(StoreBuildParams, TheSimplifierNameIsPrintedWithControlCharactersEscaped)
   EXPECT_EQ(text.output.find('\x1b'), std::string::npos) << text.output;
   EXPECT_TRUE(mentions(text, "simplifier meshopt\\x1b[2J\\x07\\xff\\x5c (")) << text.output;
   // The JSON form stays valid UTF-8 and parses.
-  const auto json = info(" --json");
-  ASSERT_EQ(json.status, 0) << json.output;
-  const auto parsed = nlohmann::json::parse(json.output, nullptr, false);
-  ASSERT_FALSE(parsed.is_discarded()) << json.output;
+  const auto jsonInfo = info(" --json");
+  ASSERT_EQ(jsonInfo.status, 0) << jsonInfo.output;
+  const auto parsed = nlohmann::json::parse(jsonInfo.output, nullptr, false);
+  ASSERT_FALSE(parsed.is_discarded()) << jsonInfo.output;
   EXPECT_EQ(parsed["params"]["simplifier"], "meshopt\\x1b[2J\\x07\\xff\\x5c");
 }
 

@@ -292,16 +292,16 @@ TEST(ObjImport, RejectsOutOfRangeAndZeroIndicesWithLineNumbers) {
 // ---- glTF ----
 
 // Builds a .glb from JSON and a binary chunk.
-std::string glb(std::string json, std::string bin) {
-  while (json.size() % 4) json.push_back(' ');
+std::string glb(std::string gltfText, std::string bin) {
+  while (gltfText.size() % 4) gltfText.push_back(' ');
   while (bin.size() % 4) bin.push_back('\0');
   std::string s;
   putBytes(s, std::uint32_t(0x46546C67));
   putBytes(s, std::uint32_t(2));
-  putBytes(s, std::uint32_t(12 + 8 + json.size() + 8 + bin.size()));
-  putBytes(s, std::uint32_t(json.size()));
+  putBytes(s, std::uint32_t(12 + 8 + gltfText.size() + 8 + bin.size()));
+  putBytes(s, std::uint32_t(gltfText.size()));
   putBytes(s, std::uint32_t(0x4E4F534A));
-  s += json;
+  s += gltfText;
   putBytes(s, std::uint32_t(bin.size()));
   putBytes(s, std::uint32_t(0x004E4942));
   s += bin;
@@ -371,11 +371,11 @@ TEST(GltfImport, DecodesBaseColorTextureToRgba) {
   TempDir dir;
   dir.write("tri.bin", triangleBin());
   dir.write("tex.ppm", kPpm);
-  std::string json = triangleGltfJson(68, "tri.bin");
-  json.replace(json.find(R"("baseColorFactor")"), 0, R"("baseColorTexture":{"index":0},)");
-  json.insert(json.rfind('}'),
+  std::string gltfText = triangleGltfJson(68, "tri.bin");
+  gltfText.replace(gltfText.find(R"("baseColorFactor")"), 0, R"("baseColorTexture":{"index":0},)");
+  gltfText.insert(gltfText.rfind('}'),
               R"(,"textures":[{"source":0}],"images":[{"uri":"tex.ppm","mimeType":"image/png"}])");
-  auto model = importModel(dir.write("tex.gltf", json));
+  auto model = importModel(dir.write("tex.gltf", gltfText));
   ASSERT_TRUE(model.ok()) << model.message();
   ASSERT_TRUE(model->meshes[0].texture);
   EXPECT_EQ(model->meshes[0].texture->width, 3);
@@ -392,9 +392,9 @@ TEST(GltfImport, RejectsIndexBeyondVertexCount) {
 
 TEST(GltfImport, RejectsAccessorBeyondBuffer) {
   TempDir dir;
-  std::string json = triangleGltfJson(68, "");
-  json.replace(json.find(R"("count":3,"type":"VEC2")"), 9, R"("count":9)");
-  auto model = importModel(dir.write("over.glb", glb(json, triangleBin())));
+  std::string gltfText = triangleGltfJson(68, "");
+  gltfText.replace(gltfText.find(R"("count":3,"type":"VEC2")"), 9, R"("count":9)");
+  auto model = importModel(dir.write("over.glb", glb(gltfText, triangleBin())));
   EXPECT_TRUE(mentions(model, "over.glb: ")) << model.message();
 }
 
