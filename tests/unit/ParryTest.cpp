@@ -10,6 +10,7 @@
 
 #include "BuildTestMeshes.h"
 #include "hlod/builder/Simplifier.h"
+#include "hlod/metrics/SimplifiedFacing.h"
 #include "hlod/parry/Faces.h"
 #include "hlod/parry/ParryPiece.h"
 #include "hlod/parry/SimplificationArrays.h"
@@ -347,6 +348,37 @@ TEST(ParrySimplifier, HitsTheTargetAndKeepsTheProgressionDownToTheOutlines) {
   EXPECT_GT(s.geometricError, 0.0);
   for (std::uint32_t v : s.mesh.indices) ASSERT_LT(v, s.mesh.positions.size());
   for (std::uint32_t v : s.mesh.progression.moves) ASSERT_LT(v, s.mesh.positions.size());
+}
+
+// A flat grid whose inner vertices are moved at random by up to 0.15 of a cell (no triangle of
+// the grid turns over): vertex clustering folds some of its triangles over.
+Mesh jitteredGrid(int n, std::uint32_t seed) {
+  Mesh m = flatGrid(n, n, double(n), double(n));
+  m.name = "jittered grid " + std::to_string(seed);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.15, 0.15);
+  for (glm::dvec3& p : m.positions)
+    if (p.x > 0.0 && p.x < n && p.y > 0.0 && p.y < n)
+      p += glm::dvec3(jitter(rng), jitter(rng), 0.0);
+  return m;
+}
+
+// Every count of the piece's progression (the node's own triangles at that count, as a store
+// keeps them) has no triangle facing against the surface it stands for.
+void expectNoTriangleFacesAway(const Mesh& mesh) {
+  const ParryPiece piece = organisePiece(mesh);
+  for (std::size_t n = piece.arrays.minTriangles(); n <= mesh.triangleCount(); ++n) {
+    const Mesh at = pieceAt(mesh, piece, n);
+    const auto report = metrics::checkFacing(mesh, at, 1e9);
+    ASSERT_TRUE(report) << report.error().message;
+    ASSERT_EQ(report->flipped, 0u)
+        << mesh.name << " at " << n << " of " << mesh.triangleCount() << " triangles";
+  }
+}
+
+TEST(ParryPiece, ClusteringNeverLeavesATriangleFacingAwayFromItsSurface) {
+  for (std::uint32_t seed : {1u, 2u, 3u}) expectNoTriangleFacesAway(jitteredGrid(12, seed));
+  expectNoTriangleFacesAway(testmesh::wavyGrid(12));
 }
 
 }  // namespace

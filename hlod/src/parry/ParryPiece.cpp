@@ -258,6 +258,13 @@ Mesh pieceAt(const Mesh& mesh, const ParryPiece& piece, std::size_t n, double* s
       const std::uint32_t input = mesh.indices[3 * std::size_t(t) + c];
       out.indices.push_back(vertexFor(local, face, input));
     }
+    // Combining vertices can fold a triangle over its face: turned, it faces as its face does
+    // (drawn with back faces culled, it was a hole).
+    const glm::dvec3& a = out.positions[out.indices[3 * k]];
+    const glm::dvec3 facing = glm::cross(out.positions[out.indices[3 * k + 1]] - a,
+                                         out.positions[out.indices[3 * k + 2]] - a);
+    if (glm::dot(facing, piece.faces.faces[face].normal) < 0.0)
+      std::swap(out.indices[3 * k + 1], out.indices[3 * k + 2]);
   }
   // The combinations left, per face: each face's copy of a child moves into its copy of the
   // parent.
