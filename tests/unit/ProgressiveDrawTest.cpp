@@ -14,17 +14,8 @@ namespace hlod {
 namespace {
 
 using test::makeSyntheticCity;
+using test::overview;
 using test::SyntheticCity;
-
-View wholeCityView(const Skeleton& sk) {
-  Aabb all;
-  for (std::uint32_t r : sk.roots) all.extend(sk.nodes[r].bounds);
-  View v;
-  v.camera.target = all.centre();
-  v.camera.position = all.centre() + glm::dvec3(0.0, -0.8, 0.6) * glm::length(all.size());
-  v.camera.fovY = 60.0;
-  return v;
-}
 
 // 16 blocks of 1000 triangles at hlod_0; at 4e-3 ms per triangle hlod_0 alone is 64 ms, twice
 // the 33 ms budget: only drawing fewer triangles of each node can hold it.
@@ -43,7 +34,7 @@ SelectorParams slowMachine() {
 TEST(ProgressiveDraw, AFrontOverTheBudgetAtHlod0IsDrawnWithTheTrianglesItsSlicesBuy) {
   const Skeleton sk = makeSyntheticCity(progressiveCity());
   LakhiaSelector sel(sk, slowMachine());
-  const Selection s = sel.select(wholeCityView(sk), AllResident());
+  const Selection s = sel.select(overview(sk), AllResident());
   ASSERT_EQ(s.draws.size(), s.front.size());
   ASSERT_FALSE(s.front.empty());
   EXPECT_EQ(s.partialNodes, s.front.size());  // every root's slice is short of its need
@@ -72,7 +63,7 @@ TEST(ProgressiveDraw, WithoutAProgressionOrWithItOffNodesAreDrawnWhole) {
     SelectorParams p = slowMachine();
     p.progressive = !progressionInStore;  // the store has none, or the user turned it off
     LakhiaSelector sel(sk, p);
-    const Selection s = sel.select(wholeCityView(sk), AllResident());
+    const Selection s = sel.select(overview(sk), AllResident());
     EXPECT_EQ(s.partialNodes, 0u);
     std::uint64_t whole = 0;
     for (std::size_t i = 0; i < s.front.size(); ++i) {
@@ -89,7 +80,7 @@ TEST(ProgressiveDraw, ABudgetThatFitsTheFrontDrawsEveryNodeWhole) {
   SelectorParams p;
   p.lakhia.vTimeInitial = 1e-6;  // the whole city fits many times over
   LakhiaSelector sel(sk, p);
-  const Selection s = sel.select(wholeCityView(sk), AllResident());
+  const Selection s = sel.select(overview(sk), AllResident());
   EXPECT_EQ(s.partialNodes, 0u);
   for (std::size_t i = 0; i < s.front.size(); ++i)
     EXPECT_EQ(s.draws[i].triangles, sk.nodes[s.front[i]].numTri);
@@ -99,7 +90,7 @@ TEST(ProgressiveDraw, NodesUnderSplatPixelsAreDrawnAsTheirSplatsAtCSplatEach) {
   SyntheticCity c;
   c.splatCount = 64;
   const Skeleton sk = makeSyntheticCity(c);
-  const View v = wholeCityView(sk);
+  const View v = overview(sk);
   for (double pixels : {0.0, 1e9}) {
     SelectorParams p;
     p.splats = true;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "hlod/runtime/Camera.h"
 #include "hlod/store/NodeSource.h"
 #include "hlod/store/Skeleton.h"
 
@@ -141,5 +142,16 @@ class MemoryNodeSource final : public NodeSource {
   mutable std::mutex mutex_;
   mutable std::vector<std::uint32_t> readLog_;
 };
+
+// A view of the whole skeleton from above and in front, 60 degrees wide.
+inline View overview(const Skeleton& sk) {
+  Aabb all;
+  for (std::uint32_t r : sk.roots) all.extend(sk.nodes[r].bounds);
+  View v;
+  v.camera.target = all.centre();
+  v.camera.position = all.centre() + glm::dvec3(0.0, -0.8, 0.6) * glm::length(all.size());
+  v.camera.fovY = 60.0;
+  return v;
+}
 
 }  // namespace hlod::test

@@ -14,17 +14,8 @@ namespace hlod {
 namespace {
 
 using test::makeSyntheticCity;
+using test::overview;
 using test::SyntheticCity;
-
-View overview(const Skeleton& sk) {
-  Aabb all;
-  for (std::uint32_t r : sk.roots) all.extend(sk.nodes[r].bounds);
-  View v;
-  v.camera.target = all.centre();
-  v.camera.position = all.centre() + glm::dvec3(0.0, -0.8, 0.6) * glm::length(all.size());
-  v.camera.fovY = 60.0;
-  return v;
-}
 
 View streetView(const SyntheticCity& c) {
   View v;
