@@ -341,8 +341,8 @@ TEST(GpuMesh, DrawsAProgressionAtAnyCountAndSplatsAsPoints) {
   options.height = 120;
   auto r = renderer::Renderer::create(*ctx, options);
   ASSERT_TRUE(r) << r.message();
-  const auto view = renderer::makeFrameView({0, -2, 4}, {0, 0, 0}, {0, 0, 1}, 50.0, 160.0 / 120,
-                                            0.1, 100.0);
+  const auto view =
+      renderer::makeFrameView({0, -2, 4}, {0, 0, 0}, {0, 0, 1}, 50.0, 160.0 / 120, 0.1, 100.0);
   const auto covered = [&](hlod::NodeDraw d) {
     gpu->setDraw(ctx->gl(), d);
     const std::vector<const renderer::GpuMesh*> list{&*gpu};

@@ -373,8 +373,9 @@ TEST(GltfImport, DecodesBaseColorTextureToRgba) {
   dir.write("tex.ppm", kPpm);
   std::string gltfText = triangleGltfJson(68, "tri.bin");
   gltfText.replace(gltfText.find(R"("baseColorFactor")"), 0, R"("baseColorTexture":{"index":0},)");
-  gltfText.insert(gltfText.rfind('}'),
-              R"(,"textures":[{"source":0}],"images":[{"uri":"tex.ppm","mimeType":"image/png"}])");
+  gltfText.insert(
+      gltfText.rfind('}'),
+      R"(,"textures":[{"source":0}],"images":[{"uri":"tex.ppm","mimeType":"image/png"}])");
   auto model = importModel(dir.write("tex.gltf", gltfText));
   ASSERT_TRUE(model.ok()) << model.message();
   ASSERT_TRUE(model->meshes[0].texture);

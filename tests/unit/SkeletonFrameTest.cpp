@@ -8,8 +8,8 @@
 #include <filesystem>
 
 #include "BuildTestMeshes.h"
-#include "hlod/builder/HlodBuilder.h"
 #include "StoreBytes.h"
+#include "hlod/builder/HlodBuilder.h"
 #include "hlod/store/NodeStore.h"
 
 using namespace hlod;

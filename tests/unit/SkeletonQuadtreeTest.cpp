@@ -9,8 +9,8 @@
 #include <tuple>
 
 #include "RuntimeTestScene.h"
-#include "hlod/builder/HlodBuilder.h"
 #include "StoreBytes.h"
+#include "hlod/builder/HlodBuilder.h"
 #include "hlod/store/NodeStore.h"
 
 using namespace hlod;

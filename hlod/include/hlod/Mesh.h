@@ -121,8 +121,8 @@ struct LocalMesh {
   std::vector<std::uint32_t> indices;
   glm::vec4 baseColor{0.8f, 0.8f, 0.8f, 1.0f};
   std::shared_ptr<const Image> texture;
-  bool oneSided = false;  // as Mesh::oneSided
-  Progression progression;  // as Mesh::progression
+  bool oneSided = false;      // as Mesh::oneSided
+  Progression progression;    // as Mesh::progression
   std::vector<Splat> splats;  // empty: the node is never drawn as splats
 
   std::size_t triangleCount() const { return indices.size() / 3; }

@@ -48,9 +48,9 @@ class Simplifier {
   // (parry: the mesh must be welded, as the builder's pieces are; its result always has a
   // progression, down to its faces' outlines, and no vertex of it is a copy of an input vertex
   // but the silhouette ones; errorLimit plays no part.)
-  virtual SimplifiedMesh simplify(const Mesh& mesh, std::size_t targetTriangles,
-                                  const std::vector<std::uint8_t>& locked = {},
-                                  double errorLimit = std::numeric_limits<double>::infinity()) const;
+  virtual SimplifiedMesh simplify(
+      const Mesh& mesh, std::size_t targetTriangles, const std::vector<std::uint8_t>& locked = {},
+      double errorLimit = std::numeric_limits<double>::infinity()) const;
 
   // What the implementations see: one vertex per distinct position.
   struct Shape {

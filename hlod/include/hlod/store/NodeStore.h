@@ -22,8 +22,8 @@
 //     checked to be drawable), the
 //     splats if flagged (8; u32 count s > 0, s x {f32 position[3], radius, normal[3],
 //     texCoord[2]}: LocalMesh::splats), u8 RGBA pixels[4 w h]: NodeInfo::memoryBytes in all.
-//     Version 3 added the progression and the splats; version 2 payloads are read too. payload.bin holds it
-//     in two sections, each deflated on its own: the mesh (all but the pixels; CRC-32
+//     Version 3 added the progression and the splats; version 2 payloads are read too. payload.bin
+//     holds it in two sections, each deflated on its own: the mesh (all but the pixels; CRC-32
 //     NodeInfo::payloadChecksum) at payloadOffset, and the pixels (NodeInfo::textureSize stored
 //     bytes, CRC-32 textureChecksum; absent without a texture) at textureOffset: right after the
 //     mesh, or where another node of the same block and level stored the texture they share
