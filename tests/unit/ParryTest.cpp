@@ -165,6 +165,59 @@ TEST(SphereHierarchy, ParentsHoldTheAverageOfTheirChildrenAndSpheresThatHoldThei
   }
 }
 
+TEST(SphereHierarchy, ACornerMergeStandsAtTheCornerHoldsBothAndCombinesAfterTheForest) {
+  // A run of three vertices on a line (one group) between two corners.
+  std::vector<SphereVertex> vs(5);
+  for (std::size_t v = 0; v < vs.size(); ++v) {
+    vs[v].position = glm::dvec3(double(v), 0.0, 0.0);
+    vs[v].radius = 0.5;
+    vs[v].group = 7;
+    vs[v].silhouette = v == 0 || v == 4;
+  }
+  SphereHierarchy h = buildSphereHierarchy(vs);
+  ASSERT_EQ(h.roots.size(), 3u);
+  const std::uint32_t run = h.roots.back();
+  const std::size_t forest = h.nodes.size();
+  const std::pair<std::uint32_t, std::uint32_t> merge[] = {{run, 4u}};
+  mergeIntoCorners(h, merge);
+  ASSERT_EQ(h.nodes.size(), forest + 1);
+  EXPECT_EQ(h.merges, 1u);
+  const SphereNode& p = h.nodes.back();
+  EXPECT_EQ(p.centre, glm::dvec3(4, 0, 0));  // the corner does not move
+  for (std::uint32_t c : p.child) {
+    EXPECT_EQ(h.nodes[c].parent, forest);
+    EXPECT_LE(glm::length(h.nodes[c].centre - p.centre) + h.nodes[c].radius, p.radius + 1e-12);
+  }
+  EXPECT_EQ(std::set<std::uint32_t>(h.roots.begin(), h.roots.end()),
+            (std::set<std::uint32_t>{0u, std::uint32_t(forest)}));
+  // A strip along the line: the run's own combinations decimate first, the merge last, though
+  // its sphere is no larger than theirs would allow in any order.
+  std::vector<std::uint32_t> strip;
+  for (std::uint32_t v = 0; v + 1 < 5; ++v) strip.insert(strip.end(), {v, v + 1, v});
+  const SimplificationArrays a = buildSimplificationArrays(h, strip);
+  ASSERT_EQ(a.vertices.size(), 2 * (h.nodes.size() - h.leafCount));
+  EXPECT_EQ(h.nodes[a.vertices[a.vertices.size() - 2]].parent, forest);
+}
+
+TEST(ParryPiece, ADetailStandingFreeOfItsFaceSimplifiesAwayWhole) {
+  // A 10 x 10 roof and, on it, a rooftop unit: a box of 0.2 m without a bottom, its own
+  // vertices (it touches the roof, shares none of its positions), 0.2% of the area.
+  Mesh m = flatGrid(10, 10, 10.0, 10.0);
+  using V = glm::dvec3;
+  const double a = 5.03, b = 5.23, h = 0.2;                    // off the grid's lines
+  addQuad(m, V(a, a, h), V(b, a, h), V(b, b, h), V(a, b, h));  // top
+  addQuad(m, V(a, a, 0), V(b, a, 0), V(b, a, h), V(a, a, h));  // -y
+  addQuad(m, V(b, a, 0), V(b, b, 0), V(b, b, h), V(b, a, h));  // +x
+  addQuad(m, V(b, b, 0), V(a, b, 0), V(a, b, h), V(b, b, h));  // +y
+  addQuad(m, V(a, b, 0), V(a, a, 0), V(a, a, h), V(a, b, h));  // -x
+  m = weldVertices(m);
+  const ParryPiece piece = organisePiece(m);
+  const Mesh coarsest = pieceAt(m, piece, 0);
+  // Before the detail was one group, each of its faces kept a vertex and the box a few triangles.
+  for (std::uint32_t v : coarsest.indices) EXPECT_EQ(coarsest.positions[v].z, 0.0);
+  EXPECT_EQ(coarsest.triangleCount(), 4u);  // the roof, as the rectangle above
+}
+
 TEST(SphereHierarchy, SilhouetteVerticesAreRootsOfTheirOwnAndGroupsNeverMix) {
   std::vector<SphereVertex> vs(12);
   for (std::size_t v = 0; v < vs.size(); ++v) {
@@ -299,7 +352,10 @@ TEST(ParryPiece, SilhouetteVerticesSurviveToTheCoarsestLevelAndTheFaceKeepsItsOu
   double error = -1.0;
   const Mesh coarsest = pieceAt(grid, piece, 0, &error);
   EXPECT_EQ(coarsest.triangleCount(), piece.arrays.minTriangles());
-  EXPECT_LT(coarsest.triangleCount(), 16u);
+  // The face as the polygon of its corners: each straight run of the outline combined into a
+  // corner at its end, the inside into one vertex, a fan of four triangles (eight, a vertex in
+  // the middle of each side too, before the runs' roots combined into the corners).
+  EXPECT_EQ(coarsest.triangleCount(), 4u);
   EXPECT_GT(error, 0.5);
   // The four corners are silhouette vertices and stand where they were.
   for (glm::dvec3 c :

@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numeric>
 #include <unordered_map>
 
@@ -98,6 +99,34 @@ glm::dvec3 fitAffine(const std::vector<glm::dvec3>& st1, const std::vector<doubl
   return glm::inverse(m) * r;
 }
 
+// The root of a leaf's tree in the forest.
+std::uint32_t rootOf(const SphereHierarchy& h, std::uint32_t leaf) {
+  while (h.nodes[leaf].parent != kNoSphere) leaf = h.nodes[leaf].parent;
+  return leaf;
+}
+
+// Each straight run of an outline ends in corners (silhouette vertices, never combined): its root
+// combines into the corner at its end nearest to it (on equal distances the lower leaf), so that
+// at the coarsest a facade face is the polygon of its corners. A run that meets no corner (a
+// closed outline that never turns) stays.
+void mergeRunsIntoCorners(SphereHierarchy& h, const std::vector<std::uint8_t>& silhouette,
+                          const std::vector<std::pair<std::uint32_t, std::uint32_t>>& runEdges) {
+  std::map<std::uint32_t, std::uint32_t> cornerOf;  // run root -> corner leaf
+  for (const auto& [p, q] : runEdges) {
+    if (bool(silhouette[p]) == bool(silhouette[q])) continue;
+    const std::uint32_t corner = silhouette[p] ? p : q;
+    const std::uint32_t root = rootOf(h, silhouette[p] ? q : p);
+    const auto [it, fresh] = cornerOf.try_emplace(root, corner);
+    if (fresh) continue;
+    const double d = glm::length(h.nodes[corner].centre - h.nodes[root].centre);
+    const double best = glm::length(h.nodes[it->second].centre - h.nodes[root].centre);
+    if (d < best || (d == best && corner < it->second)) it->second = corner;
+  }
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs(cornerOf.begin(),
+                                                                   cornerOf.end());
+  mergeIntoCorners(h, pairs);
+}
+
 }  // namespace
 
 ParryPiece organisePiece(const Mesh& mesh, const std::vector<std::uint8_t>& locked,
@@ -133,8 +162,9 @@ ParryPiece organisePiece(const Mesh& mesh, const std::vector<std::uint8_t>& lock
   const double turnCos = std::cos(params.silhouetteAngleDegrees * M_PI / 180.0);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> runEdges;
   std::vector<std::uint8_t> onOutline(leaves, 0);
+  const auto isMajor = [&](std::size_t f) { return seg.faces[f].area >= kMajorFace * area; };
   for (std::size_t f = 0; f < seg.faces.size(); ++f) {
-    if (!(seg.faces[f].area >= kMajorFace * area)) continue;
+    if (!isMajor(f)) continue;
     for (const auto& [p, nb] : outerOutline(faceTriangles[f], leafIndices, at)) {
       onOutline[p] = 1;
       bool corner = nb.size() != 2;
@@ -151,13 +181,31 @@ ParryPiece organisePiece(const Mesh& mesh, const std::vector<std::uint8_t>& lock
   UnionFind runs(leaves);
   for (const auto& [p, q] : runEdges)
     if (!piece.silhouette[p] && !piece.silhouette[q]) runs.join(p, q);
-  // The rest: the group of the largest face that uses the position.
+  // The rest: the group of the largest face that uses the position, or of its detail (below).
   std::vector<std::uint32_t> largestFace(leaves, 0xffffffffu);
   for (std::uint32_t t = 0; t < triangles; ++t)
     for (int k = 0; k < 3; ++k) {
       std::uint32_t& f = largestFace[leafIndices[3 * t + k]];
       if (f == 0xffffffffu || seg.faces[seg.faceOf[t]].area > seg.faces[f].area) f = seg.faceOf[t];
     }
+  // A detail: minor faces joined through the vertices they own, of minor area all together (a
+  // rooftop unit, a ledge standing free of its wall). It is one group, so it simplifies away to
+  // one vertex; as a group per face it kept a triangle between every three of its faces.
+  UnionFind details(seg.faces.size());
+  for (std::uint32_t t = 0; t < triangles; ++t) {
+    const std::uint32_t f = seg.faceOf[t];
+    if (isMajor(f)) continue;
+    for (int k = 0; k < 3; ++k)
+      if (const std::uint32_t g = largestFace[leafIndices[3 * t + k]]; !isMajor(g))
+        details.join(f, g);
+  }
+  std::vector<double> detailArea(seg.faces.size(), 0.0);
+  for (std::uint32_t f = 0; f < seg.faces.size(); ++f)
+    detailArea[details.find(f)] += seg.faces[f].area;
+  const auto groupFace = [&](std::uint32_t f) {
+    const std::uint32_t d = details.find(f);
+    return !isMajor(f) && detailArea[d] < kMajorFace * area ? d : f;
+  };
 
   const std::vector<glm::vec3> normals = computeVertexNormals(at, leafIndices);
   std::vector<double> longest(leaves, 0.0);
@@ -176,9 +224,10 @@ ParryPiece organisePiece(const Mesh& mesh, const std::vector<std::uint8_t>& lock
     s.radius = 0.5 * longest[p];
     s.silhouette = piece.silhouette[p] != 0;
     // Runs are numbered by their root position, the rest after them by face.
-    s.group = onOutline[p] ? runs.find(p) : std::uint32_t(leaves) + largestFace[p];
+    s.group = onOutline[p] ? runs.find(p) : std::uint32_t(leaves) + groupFace(largestFace[p]);
   }
   piece.hierarchy = buildSphereHierarchy(vertices);
+  mergeRunsIntoCorners(piece.hierarchy, piece.silhouette, runEdges);
   piece.arrays = buildSimplificationArrays(piece.hierarchy, leafIndices);
 
   // Each face's texture mapping, affine over its plane.

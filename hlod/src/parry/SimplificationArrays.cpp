@@ -10,13 +10,15 @@ namespace hlod {
 
 namespace {
 
-// The internal nodes in the order they combine: smallest splat size first. A parent's sphere holds
-// its children's, so its radius is never smaller; on equal radii the lower index (children are
-// made before their parents) goes first.
+// The internal nodes in the order they combine: the forest's smallest splat size first, then the
+// corner merges in the order they were made. A parent's sphere holds its children's, so its
+// radius is never smaller; on equal radii the lower index (children are made before their
+// parents) goes first.
 std::vector<std::uint32_t> combinationOrder(const SphereHierarchy& h) {
   std::vector<std::uint32_t> order;
   for (std::uint32_t n = std::uint32_t(h.leafCount); n < h.nodes.size(); ++n) order.push_back(n);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+  const auto forestEnd = order.end() - std::ptrdiff_t(h.merges);
+  std::sort(order.begin(), forestEnd, [&](std::uint32_t a, std::uint32_t b) {
     return h.nodes[a].radius != h.nodes[b].radius ? h.nodes[a].radius < h.nodes[b].radius : a < b;
   });
   return order;

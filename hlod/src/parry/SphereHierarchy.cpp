@@ -100,6 +100,37 @@ SphereHierarchy buildSphereHierarchy(std::span<const SphereVertex> vertices) {
   return h;
 }
 
+void mergeIntoCorners(SphereHierarchy& h,
+                      std::span<const std::pair<std::uint32_t, std::uint32_t>> runIntoCorner) {
+  assert(h.merges == 0);
+  const std::size_t forestEnd = h.nodes.size();
+  for (const auto& [run, corner] : runIntoCorner) {
+    assert(corner < h.leafCount && h.nodes[run].parent == kNoSphere);
+    std::uint32_t top = corner;
+    while (h.nodes[top].parent != kNoSphere) top = h.nodes[top].parent;
+    assert(top != run);
+    const SphereNode& a = h.nodes[top];
+    const SphereNode& b = h.nodes[run];
+    SphereNode p = parentOf(a, b);
+    p.centre = a.centre;
+    p.radius = std::max(a.radius, glm::length(b.centre - a.centre) + b.radius);
+    p.texCoord = a.texCoord;
+    p.child[0] = top;
+    p.child[1] = run;
+    const auto id = std::uint32_t(h.nodes.size());
+    h.nodes.push_back(p);
+    h.nodes[top].parent = id;
+    h.nodes[run].parent = id;
+  }
+  std::vector<std::uint32_t> roots;
+  for (std::uint32_t r : h.roots)
+    if (h.nodes[r].parent == kNoSphere) roots.push_back(r);
+  h.merges = h.nodes.size() - forestEnd;
+  for (std::size_t n = forestEnd; n < h.nodes.size(); ++n)
+    if (h.nodes[n].parent == kNoSphere) roots.push_back(std::uint32_t(n));
+  h.roots = std::move(roots);
+}
+
 std::vector<std::uint32_t> sphereCut(const SphereHierarchy& hierarchy, std::size_t count) {
   const auto larger = [&](std::uint32_t a, std::uint32_t b) {
     const double ra = hierarchy.nodes[a].radius, rb = hierarchy.nodes[b].radius;

@@ -12,9 +12,14 @@
 // corners is a group of its own (its vertices combine only along the run, so it stays straight).
 // Every other vertex, the inside of a facade face with the holes in it (window openings) and the
 // details attached to it (recesses, ledges), belongs to the group of the largest face that uses
-// it, and simplifies away. Vertices the caller locks (the piece's seams with its neighbours) are
-// silhouette vertices too. The automatic silhouette is this document's choice: the paper leaves it
-// open ("Automating silhouette vertex determination is a problem yet to be solved").
+// it, and simplifies away. A detail standing free (minor faces joined through the vertices they
+// own, minor all together: a rooftop unit, a ledge of its own) is one group and simplifies away
+// whole. Last, each run's root combines into a corner at its end (mergeIntoCorners), so at the
+// coarsest a facade face is the polygon of its corners fanned from one inner vertex: "the fewest
+// points necessary to describe a facade face". Vertices the caller locks (the piece's seams with
+// its neighbours) are silhouette vertices too. The automatic silhouette is this document's choice:
+// the paper leaves it open ("Automating silhouette vertex determination is a problem yet to be
+// solved").
 //
 // The hierarchy is over positions, so faces that share a vertex move it alike and never open a
 // crack. A drawn vertex is a (sphere, face) pair: the sphere's centre, with the face's texture

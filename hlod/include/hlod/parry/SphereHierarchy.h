@@ -14,6 +14,7 @@
 // each silhouette vertex a root of its own.
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -23,8 +24,10 @@ namespace hlod {
 constexpr std::uint32_t kNoSphere = 0xffffffffu;
 
 struct SphereNode {
-  glm::dvec3 centre{0.0};  // a leaf: its vertex; a parent: the average of its children's centres
-  double radius = 0.0;     // the splat size (a parent's sphere holds its children's)
+  // A leaf: its vertex; a parent: the average of its children's centres (a corner merge: its
+  // corner's).
+  glm::dvec3 centre{0.0};
+  double radius = 0.0;                 // the splat size (a parent's sphere holds its children's)
   glm::vec3 normal{0.0f, 0.0f, 1.0f};  // unit: a leaf's own, a parent's the children's average
   float coneCos = 1.0f;                // cos of the normal cone's half-width (1: a single normal)
   glm::vec2 texCoord{0.0f};            // a parent's: the average of its children's
@@ -50,12 +53,24 @@ struct SphereHierarchy {
   std::vector<SphereNode> nodes;
   std::vector<std::uint32_t> roots;  // one per group, and one per silhouette vertex
   std::size_t leafCount = 0;
+  // The last `merges` nodes are corner merges (mergeIntoCorners), combined after the forest.
+  std::size_t merges = 0;
 };
 
 // Builds the forest. Deterministic in the vertices' positions, not their order within a group:
 // two copies of one outline run (each face that shares it has its own) get equal trees, so both
 // faces move the run's vertices alike and meet without a crack.
 SphereHierarchy buildSphereHierarchy(std::span<const SphereVertex> vertices);
+
+// "At the highest level of the hierarchy (lowest LOD), we wish to retain the fewest points
+// necessary to describe a facade face" (sec. 5): once a straight run of a face's outline has
+// combined into its root, that root combines into a corner at the run's end. Per pair (root of a
+// run, corner leaf), in order: a parent of the corner's top node (the leaf or an earlier merge's
+// parent) and the run's root, standing at the corner (the corner never moves; the run, straight,
+// folds onto its own line), its sphere holding both. Roots are updated. Called once, after the
+// forest is built.
+void mergeIntoCorners(SphereHierarchy& hierarchy,
+                      std::span<const std::pair<std::uint32_t, std::uint32_t>> runIntoCorner);
 
 // The nodes of a cut through the forest with about `count` nodes (at least one per root): from
 // the roots, the node of largest radius is replaced by its children until there are count
