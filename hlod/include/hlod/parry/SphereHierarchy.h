@@ -51,7 +51,8 @@ struct SphereVertex {
 struct SphereHierarchy {
   // nodes[v] is the leaf of vertex v; parents follow, each after both its children.
   std::vector<SphereNode> nodes;
-  std::vector<std::uint32_t> roots;  // one per group, and one per silhouette vertex
+  // One per group and one per silhouette vertex; after mergeIntoCorners, the trees it made.
+  std::vector<std::uint32_t> roots;
   std::size_t leafCount = 0;
   // The last `merges` nodes are corner merges (mergeIntoCorners), combined after the forest.
   std::size_t merges = 0;
