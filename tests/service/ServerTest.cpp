@@ -34,6 +34,25 @@ fs::path dataDir() {
   return dir;
 }
 
+fs::path webDir() {
+  static const fs::path dir =
+      fs::temp_directory_path() / ("hlodr_server_web_" + std::to_string(::getpid()));
+  return dir;
+}
+
+// The process's folders (the city copied in, every test's jobs, the page) go when it ends: each
+// run left them behind in the temporary folder.
+class RemoveTestFolders : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dataDir(), ec);
+    fs::remove_all(webDir(), ec);
+  }
+};
+[[maybe_unused]] const ::testing::Environment* const kRemoveTestFolders =
+    ::testing::AddGlobalTestEnvironment(new RemoveTestFolders);
+
 // A small city (2 blocks) built once for all tests.
 void makeScene() {
   static bool made = false;
@@ -698,8 +717,7 @@ TEST_F(ServerTest, StopCancelsRunningJobsAndTheyCloseTheirVideoAndStats) {
 
 TEST_F(ServerTest, ThePageIsServedAtTheRoot) {
   service::ServerOptions o;
-  const fs::path web =
-      fs::temp_directory_path() / ("hlodr_server_web_" + std::to_string(::getpid()));
+  const fs::path web = webDir();
   fs::create_directories(web);
   std::ofstream(web / "index.html") << "<!doctype html><title>hlodr</title>";
   o.webDir = web;
