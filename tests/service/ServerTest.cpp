@@ -28,15 +28,18 @@ using nlohmann::json;
 
 namespace {
 
+// A folder of this process's own in the temporary folder.
+fs::path processDir(const std::string& kind) {
+  return fs::temp_directory_path() / ("hlodr_server_" + kind + "_" + std::to_string(::getpid()));
+}
+
 fs::path dataDir() {
-  static const fs::path dir =
-      fs::temp_directory_path() / ("hlodr_server_test_" + std::to_string(::getpid()));
+  static const fs::path dir = processDir("test");
   return dir;
 }
 
 fs::path webDir() {
-  static const fs::path dir =
-      fs::temp_directory_path() / ("hlodr_server_web_" + std::to_string(::getpid()));
+  static const fs::path dir = processDir("web");
   return dir;
 }
 
