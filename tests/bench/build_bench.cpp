@@ -86,23 +86,34 @@ std::string mb(const nlohmann::json& levels, const char* field) {
 int main(int argc, char** argv) {
   std::string hlodr = HLODR_BINARY, threads;
   std::vector<std::string> simplifiers = {"meshopt", "openmesh"};
-  std::vector<std::string> cases = {"city",        "bunny00.off",         "refined_elephant.off",
-                                    "armadillo.off", "head.stl",          "2CylinderEngine.glb",
-                                    "peterbilt/peterbilt.obj", "rotterdam-delfshaven.cityjson.json"};
+  std::vector<std::string> cases = {"city",
+                                    "bunny00.off",
+                                    "refined_elephant.off",
+                                    "armadillo.off",
+                                    "head.stl",
+                                    "2CylinderEngine.glb",
+                                    "peterbilt/peterbilt.obj",
+                                    "rotterdam-delfshaven.cityjson.json"};
   std::string cityBlocks = "64";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string o = argv[i], v = argv[i + 1];
-    if (o == "--hlodr") hlodr = v;
-    else if (o == "--simplifiers") simplifiers = split(v);
-    else if (o == "--threads") threads = v;
-    else if (o == "--city-blocks") cityBlocks = v;
-    else if (o == "--cases") cases = split(v);
+    if (o == "--hlodr")
+      hlodr = v;
+    else if (o == "--simplifiers")
+      simplifiers = split(v);
+    else if (o == "--threads")
+      threads = v;
+    else if (o == "--city-blocks")
+      cityBlocks = v;
+    else if (o == "--cases")
+      cases = split(v);
     else {
       std::fprintf(stderr, "build_bench: unknown option %s\n", o.c_str());
       return 2;
     }
   }
-  const fs::path tmp = fs::temp_directory_path() / ("hlodr-build-bench-" + std::to_string(getpid()));
+  const fs::path tmp =
+      fs::temp_directory_path() / ("hlodr-build-bench-" + std::to_string(getpid()));
   fs::create_directories(tmp);
   std::printf("HLOD build benchmark: %s, threads %s\n", hlodr.c_str(),
               threads.empty() ? "default" : threads.c_str());
@@ -125,8 +136,8 @@ int main(int argc, char** argv) {
     }
     for (const std::string& s : simplifiers) {
       const fs::path store = tmp / "store.hlod";
-      std::vector<std::string> args = {hlodr,           "build", input.string(), "-o",
-                                       store.string(),  "--simplifier", s, "--quiet"};
+      std::vector<std::string> args = {
+          hlodr, "build", input.string(), "-o", store.string(), "--simplifier", s, "--quiet"};
       if (!threads.empty()) args.insert(args.end(), {"--threads", threads});
       const Run r = runChild(args);
       if (!r.ok) {
@@ -135,20 +146,20 @@ int main(int argc, char** argv) {
       }
       nlohmann::json info;
       try {
-        info = nlohmann::json::parse(output("'" + hlodr + "' info '" + store.string() + "' --json"));
+        info =
+            nlohmann::json::parse(output("'" + hlodr + "' info '" + store.string() + "' --json"));
       } catch (const std::exception& e) {
         std::printf("%-34s %-8s info FAILED (%s)\n", c.c_str(), s.c_str(), e.what());
         continue;
       }
       const double in = info["inputTriangles"].get<double>();
       const double leaves = info["leafTriangles"].get<double>();
-      std::printf("%-34s %-8s %10.0f %10.0f %6.3f %9.1f %9s %9s %9s %7.1f %7.3f %8.0f\n",
-                  c.c_str(), s.c_str(), in, leaves, leaves / in,
-                  info["payloadBytes"].get<double>() / 1e6,
+      std::printf("%-34s %-8s %10.0f %10.0f %6.3f %9.1f %9s %9s %9s %7.1f %7.3f %8.0f\n", c.c_str(),
+                  s.c_str(), in, leaves, leaves / in, info["payloadBytes"].get<double>() / 1e6,
                   mb(info["levels"], "texturePayloadBytes").c_str(),
                   mb(info["levels"], "memoryBytes").c_str(),
-                  mb(info["levels"], "textureMemoryBytes").c_str(), r.seconds,
-                  in / r.seconds / 1e6, r.peakMb);
+                  mb(info["levels"], "textureMemoryBytes").c_str(), r.seconds, in / r.seconds / 1e6,
+                  r.peakMb);
       std::fflush(stdout);
       fs::remove_all(store);
     }

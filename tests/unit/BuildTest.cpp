@@ -2,9 +2,9 @@
 // hierarchy's shape, watertight fronts and the simplifiers' contract.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
-#include <array>
 #include <map>
 #include <random>
 #include <set>
@@ -60,7 +60,8 @@ std::vector<std::vector<const Mesh*>> frontsOf(const std::vector<BlockNode>& nod
   for (std::uint32_t level = 0; level <= depth; ++level) {
     std::vector<std::size_t> members;
     for (std::size_t i = 0; i < nodes.size(); ++i)
-      if (nodes[i].info.level == level || (nodes[i].info.childCount == 0 && nodes[i].info.level < level))
+      if (nodes[i].info.level == level ||
+          (nodes[i].info.childCount == 0 && nodes[i].info.level < level))
         members.push_back(i);
     std::vector<const Mesh*> front;
     for (std::size_t i : members) front.push_back(&nodes[i].mesh);
@@ -173,12 +174,24 @@ TEST(BuildPreprocess, ZeroAreaTrianglesAddNothingToTheNormal) {
 // Triangles with a vertex exactly on a plane, an edge lying in it, one thinner than float epsilon
 // and one across it: each goes whole, with its vertices' bits, to the slab of its centroid.
 TEST(BuildSlabPartition, EveryTriangleGoesWholeToTheSlabOfItsCentroid) {
-  const Mesh m = triangles({{-0.5, 0, 0}, {0, 1, 0}, {0.5, 0, 0},        // centroid x 0
-                            {1, 0, 0}, {1, 1, 0}, {1.2, 0.5, 0},          // edge in the plane x = 1
-                            {1, 0, 0}, {0.5, 1, 0}, {1.5, 0, 0},          // centroid on it
-                            {2, 0, 0}, {2 + 1e-9, 1, 0}, {2 - 1e-9, 2, 0},  // a sliver at x = 2
-                            {0.8, 0, 0}, {2.9, 0.5, 0}, {2.8, 1, 0},      // across both planes
-                            {3, 0, 0}, {3, 1, 0}, {3, 0, 1}});            // centroid x 3
+  const Mesh m = triangles({{-0.5, 0, 0},
+                            {0, 1, 0},
+                            {0.5, 0, 0},  // centroid x 0
+                            {1, 0, 0},
+                            {1, 1, 0},
+                            {1.2, 0.5, 0},  // edge in the plane x = 1
+                            {1, 0, 0},
+                            {0.5, 1, 0},
+                            {1.5, 0, 0},  // centroid on it
+                            {2, 0, 0},
+                            {2 + 1e-9, 1, 0},
+                            {2 - 1e-9, 2, 0},  // a sliver at x = 2
+                            {0.8, 0, 0},
+                            {2.9, 0.5, 0},
+                            {2.8, 1, 0},  // across both planes
+                            {3, 0, 0},
+                            {3, 1, 0},
+                            {3, 0, 1}});  // centroid x 3
   const SlabPartition p = partitionIntoSlabs(m, 3);
   EXPECT_EQ(p.axis, 0);  // the centroids spread along x, over [0, 3]
   EXPECT_EQ(p.planes, (std::vector<double>{1.0, 2.0}));
@@ -434,7 +447,8 @@ TEST_P(BuildHierarchy, EveryFrontOfAClosedBlockIsWatertight) {
   ASSERT_GT(nodes.size(), 13u);
   const auto fronts = frontsOf(nodes);
   ASSERT_GT(fronts.size(), 8u);
-  for (std::size_t f = 0; f < fronts.size(); ++f) EXPECT_EQ(openEdges(fronts[f]), 0u) << "front " << f;
+  for (std::size_t f = 0; f < fronts.size(); ++f)
+    EXPECT_EQ(openEdges(fronts[f]), 0u) << "front " << f;
   // The check can fail: the same pieces simplified without their borders locked open cracks.
   std::vector<BlockNode> loose = nodes;
   for (std::size_t i = 0; i < loose.size(); ++i) {
@@ -445,7 +459,8 @@ TEST_P(BuildHierarchy, EveryFrontOfAClosedBlockIsWatertight) {
       piece.positions.insert(piece.positions.end(), m->positions.begin(), m->positions.end());
       for (std::uint32_t v : m->indices) piece.indices.push_back(base + v);
     }
-    loose[i].mesh = (*simplifier)->simplify(weldVertices(piece), nodes[i].mesh.triangleCount()).mesh;
+    loose[i].mesh =
+        (*simplifier)->simplify(weldVertices(piece), nodes[i].mesh.triangleCount()).mesh;
   }
   std::size_t open = 0;
   for (const auto& front : frontsOf(loose)) open += openEdges(front);
@@ -481,9 +496,9 @@ TEST(BuildBlocks, BlocksCutFromOneMeshMeetWatertightAtAnyTwoLevels) {
   const auto check = [&](bool withSeams) {
     std::vector<std::vector<BlockNode>> built;
     for (const auto& b : blocks)
-      built.push_back(buildBlockHierarchy(b.mesh, o, **simplifier,
-                                          withSeams ? std::span<const glm::dvec3>(b.seam)
-                                                    : std::span<const glm::dvec3>()));
+      built.push_back(buildBlockHierarchy(
+          b.mesh, o, **simplifier,
+          withSeams ? std::span<const glm::dvec3>(b.seam) : std::span<const glm::dvec3>()));
     std::size_t open = 0;
     for (std::size_t k = 0; k < built.size(); ++k)
       for (std::uint32_t coarse : {0u, 16u}) {

@@ -3,7 +3,6 @@
 
 #include <cmath>
 
-
 namespace hlod {
 
 double nodeCost(std::uint64_t numTexTri, std::uint64_t numUnTexTri, double cTex) {

@@ -45,9 +45,9 @@ SlabPartition assign(const Centroids& c, std::vector<double> planes) {
   out.planes = std::move(planes);
   out.triangles.resize(out.planes.size() + 1);
   for (std::size_t t = 0; t < c.at.size(); ++t) {
-    const auto slab = std::size_t(
-        std::lower_bound(out.planes.begin(), out.planes.end(), c.at[t][c.axis]) -
-        out.planes.begin());
+    const auto slab =
+        std::size_t(std::lower_bound(out.planes.begin(), out.planes.end(), c.at[t][c.axis]) -
+                    out.planes.begin());
     out.triangles[slab].push_back(std::uint32_t(t));
   }
   return out;

@@ -19,8 +19,8 @@ namespace hlod {
 
 struct SlabPartition {
   int axis = 0;
-  std::vector<double> planes;                            // levelFactor - 1, ascending
-  std::vector<std::vector<std::uint32_t>> triangles;     // per slab: triangle indices of the mesh
+  std::vector<double> planes;                         // levelFactor - 1, ascending
+  std::vector<std::vector<std::uint32_t>> triangles;  // per slab: triangle indices of the mesh
 };
 
 // Slabs of equal width along the longest dimension of the triangles' centroids (for a piece of

@@ -661,9 +661,9 @@ void Loader::adoptLocked(std::uint32_t node, std::shared_ptr<const LocalMesh> sh
   const NodeInfo& n = skeleton_.nodes[node];
   resident_[node] = shared;
   residentFlag_[node].store(true);
-  counters_.residentBytes += hasTexture(node) ? n.memoryBytes - n.textureBytes +
-                                                    holdTextureLocked(node, shared->texture)
-                                              : memoryOf(node);
+  counters_.residentBytes +=
+      hasTexture(node) ? n.memoryBytes - n.textureBytes + holdTextureLocked(node, shared->texture)
+                       : memoryOf(node);
   lastFinished_ = node;
   counters_.residentCost += n.cost;
   ++counters_.residentNodes;
