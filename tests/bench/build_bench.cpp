@@ -70,12 +70,14 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
-std::string mb(const nlohmann::json& levels, const char* field) {
+// A field summed over the levels and the cell nodes of `hlodr info --json`.
+std::string mb(const nlohmann::json& info, const char* field) {
   double sum = 0.0;
-  for (const auto& l : levels) {
+  for (const auto& l : info["levels"]) {
     if (!l.contains(field)) return "-";
     sum += l[field].get<double>();
   }
+  if (info.contains("cells")) sum += info["cells"].value(field, 0.0);
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f", sum / 1e6);
   return buf;
@@ -156,9 +158,9 @@ int main(int argc, char** argv) {
       const double leaves = info["leafTriangles"].get<double>();
       std::printf("%-34s %-8s %10.0f %10.0f %6.3f %9.1f %9s %9s %9s %7.1f %7.3f %8.0f\n", c.c_str(),
                   s.c_str(), in, leaves, leaves / in, info["payloadBytes"].get<double>() / 1e6,
-                  mb(info["levels"], "texturePayloadBytes").c_str(),
-                  mb(info["levels"], "memoryBytes").c_str(),
-                  mb(info["levels"], "textureMemoryBytes").c_str(), r.seconds, in / r.seconds / 1e6,
+                  mb(info, "texturePayloadBytes").c_str(),
+                  mb(info, "memoryBytes").c_str(),
+                  mb(info, "textureMemoryBytes").c_str(), r.seconds, in / r.seconds / 1e6,
                   r.peakMb);
       std::fflush(stdout);
       fs::remove_all(store);

@@ -263,7 +263,12 @@ Result<Skeleton> buildBlocks(const std::vector<CitySource>& cities,
   };
   if (auto s = prepareInParallel(**builder, units.size(), options.threads, prepare, committed); !s)
     return s.error();
-  return (*builder)->finish(secondsSince(t0));
+  return (*builder)->finish(secondsSince(t0), [&](std::size_t done, std::size_t total) {
+    p.cellsDone = done;
+    p.cellCount = total;
+    p.seconds = secondsSince(t0);
+    if (progress) progress(p);
+  });
 }
 
 Result<CityManifest> readCity(const std::filesystem::path& cityDir) {

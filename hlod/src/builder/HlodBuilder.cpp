@@ -15,6 +15,8 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include "builder/BlockBorders.h"
+#include "builder/CellNodes.h"
 #include "builder/FacadePartition.h"
 #include "builder/Preprocess.h"
 #include "builder/SimplifierImpl.h"
@@ -25,112 +27,6 @@
 namespace hlod {
 
 namespace {
-
-// Where the vertices of a welded block stand: one id per distinct position, how many triangle
-// corners of the whole block each position has, and whether another block shares it. A piece's
-// vertex with fewer corners in the piece than in the block lies on the piece's border.
-struct BlockBorders {
-  std::vector<std::uint32_t> positionOf;  // per block vertex
-  std::vector<std::uint32_t> corners;     // per position
-  std::vector<std::uint8_t> seam;         // per position
-  std::vector<std::uint32_t> scratch;     // per position, zero between calls of lockBorder
-};
-
-BlockBorders blockBorders(const Mesh& block, std::span<const glm::dvec3> seam) {
-  BlockBorders b;
-  std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> id;
-  b.positionOf.resize(block.positions.size());
-  for (std::size_t v = 0; v < block.positions.size(); ++v)
-    b.positionOf[v] = id.try_emplace(block.positions[v] + glm::dvec3(0.0), std::uint32_t(id.size()))
-                          .first->second;
-  b.corners.assign(id.size(), 0);
-  b.seam.assign(id.size(), 0);
-  b.scratch.assign(id.size(), 0);
-  for (std::uint32_t v : block.indices) ++b.corners[b.positionOf[v]];
-  for (const glm::dvec3& p : seam)
-    if (auto it = id.find(p + glm::dvec3(0.0)); it != id.end()) b.seam[it->second] = 1;
-  return b;
-}
-
-// One flag per vertex of the piece (origin: its block vertices): kVertexLocked where the rest of
-// the block or another block has the same position.
-std::vector<std::uint8_t> lockBorder(const Mesh& piece, const std::vector<std::uint32_t>& origin,
-                                     BlockBorders& b) {
-  for (std::uint32_t v : piece.indices) ++b.scratch[b.positionOf[origin[v]]];
-  std::vector<std::uint8_t> locked(piece.positions.size(), 0);
-  for (std::size_t v = 0; v < piece.positions.size(); ++v) {
-    const std::uint32_t p = b.positionOf[origin[v]];
-    if (b.seam[p] || b.scratch[p] < b.corners[p]) locked[v] = kVertexLocked;
-  }
-  for (std::uint32_t v : piece.indices) b.scratch[b.positionOf[origin[v]]] = 0;
-  return locked;
-}
-
-// Adds the outline flags of the piece's vertices on the block's sides: kVertexOnOutline on a
-// straight run of the open border there (or off the border: a kerb face lying in the side),
-// kVertexLocked at a corner of it, where a collapse would cut the corner off and open a crack.
-void markOutline(const Mesh& piece, const std::vector<std::uint32_t>& origin, BlockBorders& b,
-                 std::span<const CutPlane> sides, std::vector<std::uint8_t>& flags) {
-  if (sides.empty()) return;
-  // The piece's positions, numbered in the order they first appear (the block's position ids,
-  // through b.scratch, which is zero again on return).
-  std::vector<glm::dvec3> at;
-  std::vector<std::uint32_t> idOf(piece.positions.size());
-  for (std::size_t v = 0; v < piece.positions.size(); ++v) {
-    std::uint32_t& local = b.scratch[b.positionOf[origin[v]]];
-    if (local == 0) {
-      at.push_back(piece.positions[v]);
-      local = std::uint32_t(at.size());
-    }
-    idOf[v] = local - 1;
-  }
-  for (std::size_t v = 0; v < piece.positions.size(); ++v) b.scratch[b.positionOf[origin[v]]] = 0;
-  // An edge used once lies on the open border: the edges sorted, an edge's uses in a run.
-  std::vector<std::uint64_t> edges;
-  edges.reserve(piece.indices.size());
-  for (std::size_t i = 0; i + 2 < piece.indices.size(); i += 3)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t p = idOf[piece.indices[i + k]], q = idOf[piece.indices[i + (k + 1) % 3]];
-      if (p != q) edges.push_back((std::uint64_t(std::min(p, q)) << 32) | std::max(p, q));
-    }
-  std::sort(edges.begin(), edges.end());
-  std::vector<std::vector<std::uint32_t>> borderNeighbours(at.size());
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t end = i + 1;
-    while (end < edges.size() && edges[end] == edges[i]) ++end;
-    if (end - i == 1) {
-      const auto p = std::uint32_t(edges[i] >> 32), q = std::uint32_t(edges[i] & 0xffffffffu);
-      borderNeighbours[p].push_back(q);
-      borderNeighbours[q].push_back(p);
-    }
-    i = end;
-  }
-  for (std::size_t v = 0; v < piece.positions.size(); ++v) {
-    if (flags[v] == kVertexLocked) continue;
-    const glm::dvec3& p = piece.positions[v];
-    const CutPlane* side = nullptr;
-    int n = 0;
-    for (const CutPlane& c : sides)
-      if (c.contains(p) && n++ == 0) side = &c;
-    if (n == 0) continue;
-    const auto& nb = borderNeighbours[idOf[v]];
-    bool straight = n == 1 && (nb.empty() || nb.size() == 2);
-    if (straight && nb.size() == 2) {
-      const glm::dvec3 d0 = at[nb[0]] - p, d1 = at[nb[1]] - p;
-      straight = side->contains(at[nb[0]]) && side->contains(at[nb[1]]) && glm::dot(d0, d1) < 0.0 &&
-                 glm::length(glm::cross(d0, d1)) <= 1e-9 * glm::length(d0) * glm::length(d1);
-    }
-    flags[v] = straight ? kVertexOnOutline : kVertexLocked;
-  }
-}
-
-// The error a node with simplification factor s may have: the spacing of its level's triangles
-// spread evenly over the whole block (the level holds blockTriangles / s of them). A piece's own
-// target does not bound it: a courtyard's paving, three large triangles in a piece, has a
-// target of one, and the collapse that meets it drops 37 m of paving.
-double errorLimit(double blockArea, std::size_t blockTriangles, double s) {
-  return std::sqrt(blockArea * s / double(std::max<std::size_t>(1, blockTriangles)));
-}
 
 double rootSimplification(const Mesh& welded, const BuildOptions& options) {
   return double(welded.triangleCount()) / std::max<std::uint32_t>(1, options.desiredTri);
@@ -451,6 +347,8 @@ PreparedBlock HlodBuilder::prepareBlock(const Mesh& block, std::span<const glm::
                                         std::span<const CutPlane> sides) const {
   PreparedBlock out;
   out.inputTriangles = block.triangleCount();
+  out.sides.assign(sides.begin(), sides.end());
+  out.seam.assign(seam.begin(), seam.end());
   std::vector<BlockNode> local = buildBlockHierarchy(block, options_, *simplifier_, seam, sides);
   std::vector<LocalMesh> meshes(local.size());
   // Texture groups: the nodes of one level drawn at one resolution (inner nodes at the level's
@@ -459,19 +357,9 @@ PreparedBlock HlodBuilder::prepareBlock(const Mesh& block, std::span<const glm::
   for (std::size_t k = 0; k < local.size(); ++k) {
     BlockNode& n = local[k];
     NodeInfo info = n.info;
-    const NodeMeasures m = measureNode(n.mesh, options_.cTex);
-    info.numTri = m.numTri;
-    info.numTexTri = m.numTexTri;
-    const auto decimated = std::uint32_t(n.mesh.progression.decimated());
-    info.minTri = decimated > 0 ? info.numTri - decimated : 0;
-    info.cost = m.cost;
-    info.staticBenefit = m.staticBenefit;
-    info.avgNormal = m.avgNormal;
+    describeNode(info, n.mesh, options_.cTex);
     LocalMesh& lm = meshes[k];
-    lm = toLocal(n.mesh);
-    lm.centre = info.centre;  // the piece's centre, so that node centres nest
-    for (std::size_t v = 0; v < n.mesh.positions.size(); ++v)
-      lm.positions[v] = glm::vec3(n.mesh.positions[v] - info.centre);
+    lm = localAround(n.mesh, info.centre);  // the piece's centre, so that node centres nest
     lm.texture = nullptr;
     const Image* texture = n.mesh.texture.get();
     if (texture && !texture->empty() &&
@@ -528,6 +416,8 @@ Status HlodBuilder::commitBlock(PreparedBlock&& block) {
   const auto base = std::uint32_t(skeleton_.nodes.size());
   skeleton_.roots.push_back(base);
   anchors_.push_back(block.anchor);
+  sides_.push_back(std::move(block.sides));
+  seams_.push_back(std::move(block.seam));
   for (std::size_t k = 0; k < block.nodes.size(); ++k) {
     NodeInfo info = block.nodes[k];
     if (info.parent != kNoNode) info.parent += base;
@@ -546,10 +436,18 @@ Status HlodBuilder::commitBlock(PreparedBlock&& block) {
   return Ok{};
 }
 
-Result<Skeleton> HlodBuilder::finish(double buildSeconds) {
+Result<Skeleton> HlodBuilder::finish(
+    double buildSeconds, const std::function<void(std::size_t, std::size_t)>& progress) {
   // An empty store would only be rejected later, by `hlodr path` and the renderer.
   if (skeleton_.nodes.empty()) return makeError("no triangles to build a store from");
   skeleton_.quadtree = quadtreeOfRoots(skeleton_, anchors_);
+  std::uint64_t hlod0 = 0;
+  for (std::uint32_t r : skeleton_.roots) hlod0 += skeleton_.nodes[r].numTri;
+  if (options_.cells == CellMode::On ||
+      (options_.cells == CellMode::Auto && hlod0 > kCellTriangles)) {
+    CellPass pass{skeleton_, *writer_, *simplifier_, options_, sides_, seams_, progress};
+    if (auto cells = addCellNodes(pass); !cells) return cells.error();
+  }
   StoreFacts facts;
   facts.inputTriangles = inputTriangles_;
   facts.blockCount = blockCount_;

@@ -24,6 +24,12 @@ class ParrySimplifier final : public Simplifier {
     return out;
   }
 
+  SimplifiedMesh simplifyUnion(const Mesh& mesh, std::size_t targetTriangles,
+                               const std::vector<std::uint8_t>& locked,
+                               double errorLimit) const override {
+    return simplify(mesh, targetTriangles, locked, errorLimit);
+  }
+
  protected:
   ReducedShape reduce(const Shape&, std::size_t, double) const override {
     assert(false && "ParrySimplifier replaces simplify() whole");

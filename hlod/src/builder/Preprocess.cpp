@@ -55,4 +55,23 @@ double surfaceArea(const Mesh& mesh) {
   return area;
 }
 
+void describeNode(NodeInfo& info, const Mesh& mesh, double cTex) {
+  const NodeMeasures m = measureNode(mesh, cTex);
+  info.numTri = m.numTri;
+  info.numTexTri = m.numTexTri;
+  const auto decimated = std::uint32_t(mesh.progression.decimated());
+  info.minTri = decimated > 0 ? info.numTri - decimated : 0;
+  info.cost = m.cost;
+  info.staticBenefit = m.staticBenefit;
+  info.avgNormal = m.avgNormal;
+}
+
+LocalMesh localAround(const Mesh& mesh, const glm::dvec3& centre) {
+  LocalMesh local = toLocal(mesh);
+  local.centre = centre;
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+    local.positions[v] = glm::vec3(mesh.positions[v] - centre);
+  return local;
+}
+
 }  // namespace hlod

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "hlod/Mesh.h"
+#include "hlod/store/Skeleton.h"
 
 namespace hlod {
 
@@ -30,6 +31,14 @@ glm::vec3 averageNormal(const Mesh& mesh);
 // All of the above for one node's mesh. A mesh is textured when it has a texture and one texture
 // coordinate per vertex; then all its triangles count as textured.
 NodeMeasures measureNode(const Mesh& mesh, double cTex);
+
+// The measures of a node's mesh in its NodeInfo: numTri, numTexTri, minTri (its progression's
+// coarsest, 0 without one), cost, staticBenefit and avgNormal.
+void describeNode(NodeInfo& info, const Mesh& mesh, double cTex);
+
+// The mesh as a node's payload: positions in float relative to `centre` (the node's, so that
+// node centres nest), the rest as toLocal gives it.
+LocalMesh localAround(const Mesh& mesh, const glm::dvec3& centre);
 
 // Sum of triangle areas, in double.
 double surfaceArea(const Mesh& mesh);

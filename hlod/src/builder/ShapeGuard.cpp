@@ -67,7 +67,8 @@ std::uint32_t nearestUnlocked(const Simplifier::Shape& shape,
 }  // namespace
 
 Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size_t targetTriangles,
-                                       double errorLimit, const ReduceFn& reduce) {
+                                       double errorLimit, const ReduceFn& reduce,
+                                       bool clusterEveryRound) {
   const Mesh original = asMesh(shape, shape.indices);
   // The vertices the triangles use, ascending.
   std::vector<std::uint32_t> used;
@@ -107,7 +108,7 @@ Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size
   for (int round = 0; round <= kRepairRounds; ++round) {
     // Clustering only in the first round: later rounds may exceed the target (the locks are
     // what the shape needs), and clustering would undo them.
-    r = reduceOnce(work, targetTriangles, errorLimit, reduce, round == 0);
+    r = reduceOnce(work, targetTriangles, errorLimit, reduce, round == 0 || clusterEveryRound);
     if (r.indices.empty()) return r;
     const Mesh reduced = asMesh(shape, r.indices);
     // The simplifier's own estimate plays no part: edge collapses underestimate what they drop

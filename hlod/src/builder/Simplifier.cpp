@@ -66,6 +66,18 @@ glm::dvec3 triangleNormal(const glm::dvec3& a, const glm::dvec3& b, const glm::d
 SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangles,
                                     const std::vector<std::uint8_t>& locked,
                                     double errorLimit) const {
+  return simplifyShape(mesh, targetTriangles, locked, errorLimit, false);
+}
+
+SimplifiedMesh Simplifier::simplifyUnion(const Mesh& mesh, std::size_t targetTriangles,
+                                         const std::vector<std::uint8_t>& locked,
+                                         double errorLimit) const {
+  return simplifyShape(mesh, targetTriangles, locked, errorLimit, true);
+}
+
+SimplifiedMesh Simplifier::simplifyShape(const Mesh& mesh, std::size_t targetTriangles,
+                                         const std::vector<std::uint8_t>& locked, double errorLimit,
+                                         bool clusterEveryRound) const {
   if (mesh.triangleCount() <= targetTriangles || mesh.positions.empty()) return {mesh};
   const std::size_t nv = mesh.positions.size();
   // Weld by position: posOf[v] is the position index of input vertex v.
@@ -190,11 +202,12 @@ SimplifiedMesh Simplifier::simplify(const Mesh& mesh, std::size_t targetTriangle
     }
   }
 
-  const ReducedShape reduced =
-      guardedReduce(shape, targetTriangles, errorLimit,
-                    [this](const Shape& sh, std::size_t target, double limit) {
-                      return reduce(sh, target, limit);
-                    });
+  const ReducedShape reduced = guardedReduce(
+      shape, targetTriangles, errorLimit,
+      [this](const Shape& sh, std::size_t target, double limit) {
+        return reduce(sh, target, limit);
+      },
+      clusterEveryRound);
 
   // Attributes back: per corner, the wedge whose normal best matches the kept triangle; among
   // equally good wedges (a flat texture seam) the one whose texture coordinate lies nearest the

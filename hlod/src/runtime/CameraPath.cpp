@@ -144,7 +144,7 @@ json toJson(const glm::dvec3& v) {
 // reaches the middle of the street, as the procedural city's do, meet there).
 std::vector<double> streetsAlong(const Skeleton& sk, int axis, double minGap) {
   std::vector<std::pair<double, double>> iv;
-  for (std::uint32_t r : sk.roots) {
+  for (std::uint32_t r : sk.blockRoots()) {
     if (r >= sk.nodes.size() || sk.nodes[r].bounds.empty()) continue;
     iv.push_back({sk.nodes[r].bounds.min[axis], sk.nodes[r].bounds.max[axis]});
   }

@@ -49,6 +49,7 @@ void fillFromSelection(FrameRecord& r, const Selection& s) {
   r.partialNodes = s.partialNodes;
   r.splatNodes = s.splatNodes;
   r.splats = s.splats;
+  r.cellNodes = s.cellsDrawn;
 }
 
 bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
@@ -168,6 +169,7 @@ OrderedJson frameObject(const FrameRecord& f) {
           {"partialNodes", f.partialNodes},
           {"splatNodes", f.splatNodes},
           {"splats", f.splats},
+          {"cellNodes", f.cellNodes},
           {"nodesPerLevel", f.nodesPerLevel}};
 }
 

@@ -23,7 +23,8 @@ QuadtreeWalk QuadtreeCulling::candidateRoots(const Frustum& frustum, double fall
                                              std::vector<std::uint32_t>& roots) const {
   QuadtreeWalk walk;
   const BlockQuadtree& q = skeleton_.quadtree;
-  if (q.empty()) {
+  // Cell nodes cull their blocks themselves: a selector evaluates the cells top down.
+  if (q.empty() || skeleton_.hasCells()) {
     roots = skeleton_.roots;
     return walk;
   }

@@ -128,7 +128,10 @@ void Selector::markDrawn(std::uint32_t node, Selection& s) {
   s.front.push_back(node);
   s.estimatedCost += effectiveCost(node);
   s.triangles += n.numTri;
-  if (n.level < s.nodesDrawnPerLevel.size()) ++s.nodesDrawnPerLevel[n.level];
+  if (n.isCell())
+    ++s.cellsDrawn;
+  else if (n.level < s.nodesDrawnPerLevel.size())
+    ++s.nodesDrawnPerLevel[n.level];
 }
 
 void Selector::replaceByChildren(std::uint32_t node, const std::vector<std::uint32_t>& children,
@@ -142,7 +145,10 @@ void Selector::replaceByChildren(std::uint32_t node, const std::vector<std::uint
   const NodeInfo& n = skeleton_.nodes[node];
   s.estimatedCost -= effectiveCost(node);
   s.triangles -= n.numTri;
-  if (n.level < s.nodesDrawnPerLevel.size()) --s.nodesDrawnPerLevel[n.level];
+  if (n.isCell())
+    --s.cellsDrawn;
+  else if (n.level < s.nodesDrawnPerLevel.size())
+    --s.nodesDrawnPerLevel[n.level];
   markRefined(node, s);
   for (std::uint32_t c : children) markDrawn(c, s);
 }
@@ -160,7 +166,10 @@ void Selector::replaceByParent(std::uint32_t node, Selection& s) {
     const NodeInfo& c = skeleton_.nodes[n];
     s.estimatedCost -= effectiveCost(n);
     s.triangles -= c.numTri;
-    if (c.level < s.nodesDrawnPerLevel.size()) --s.nodesDrawnPerLevel[c.level];
+    if (c.isCell())
+      --s.cellsDrawn;
+    else if (c.level < s.nodesDrawnPerLevel.size())
+      --s.nodesDrawnPerLevel[c.level];
     return true;
   });
   if (drawnFrame_[node] == frame_ - 1) --s.upToggles;

@@ -53,17 +53,18 @@ NodeStore::~NodeStore() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-Status NodeStore::readPayloadChunk(std::uint32_t node, std::uint64_t offset,
-                                   std::span<std::byte> out) const {
-  if (node >= skeleton_.nodes.size()) return makeError("no node " + std::to_string(node));
-  const NodeInfo& n = skeleton_.nodes[node];
+namespace {
+
+// Reads bytes [offset, offset + out.size()) of node n's stored payload from fd: the mesh
+// section, then the texture section wherever it lies.
+Status readStored(int fd, const NodeInfo& n, std::uint32_t node, std::uint64_t offset,
+                  std::span<std::byte> out) {
   if (offset > n.payloadSize || out.size() > n.payloadSize - offset)
     return makeError("read outside the payload of node " + std::to_string(node));
-  // The payload's bytes are the mesh section, then the texture section wherever it lies.
   const auto readAt = [&](std::span<std::byte> into, std::uint64_t at) -> Status {
     std::size_t done = 0;
     while (done < into.size()) {
-      const ssize_t got = ::pread(fd_, into.data() + done, into.size() - done, off_t(at + done));
+      const ssize_t got = ::pread(fd, into.data() + done, into.size() - done, off_t(at + done));
       if (got < 0 && errno == EINTR) continue;
       if (got < 0) return makeError(std::string("reading payload.bin: ") + std::strerror(errno));
       if (got == 0) return makeError("payload.bin is shorter than the skeleton says (truncated)");
@@ -81,11 +82,10 @@ Status NodeStore::readPayloadChunk(std::uint32_t node, std::uint64_t offset,
   return Ok{};
 }
 
-Result<LocalMesh> NodeStore::decodePayload(std::uint32_t node,
-                                           std::span<const std::byte> bytes) const {
-  if (node >= skeleton_.nodes.size()) return makeError("no node " + std::to_string(node));
-  const NodeInfo& n = skeleton_.nodes[node];
-  // The whole payload, or its mesh section alone (a load for a scene without textures).
+// Checks and decodes node n's stored bytes: the whole payload, or its mesh section alone (a
+// load for a scene without textures).
+Result<LocalMesh> decodeStored(const NodeInfo& n, std::uint32_t node,
+                               std::span<const std::byte> bytes) {
   const std::uint64_t meshSize = n.payloadSize - n.textureSize;
   const bool pixels = bytes.size() == n.payloadSize;
   if (!pixels && bytes.size() != meshSize)
@@ -112,6 +112,20 @@ Result<LocalMesh> NodeStore::decodePayload(std::uint32_t node,
     return makeError("node " + std::to_string(node) +
                      ": payload disagrees with the skeleton (triangles, progression or splats)");
   return mesh;
+}
+
+}  // namespace
+
+Status NodeStore::readPayloadChunk(std::uint32_t node, std::uint64_t offset,
+                                   std::span<std::byte> out) const {
+  if (node >= skeleton_.nodes.size()) return makeError("no node " + std::to_string(node));
+  return readStored(fd_, skeleton_.nodes[node], node, offset, out);
+}
+
+Result<LocalMesh> NodeStore::decodePayload(std::uint32_t node,
+                                           std::span<const std::byte> bytes) const {
+  if (node >= skeleton_.nodes.size()) return makeError("no node " + std::to_string(node));
+  return decodeStored(skeleton_.nodes[node], node, bytes);
 }
 
 Result<LocalMesh> NodeStore::loadNode(std::uint32_t node) const {
@@ -176,7 +190,8 @@ Result<std::unique_ptr<NodeStoreWriter>> NodeStoreWriter::create(const std::file
   auto tmp = createUniqueSibling(dir, ".tmp-");
   if (!tmp) return tmp.error();
   w->tmp_ = *tmp;
-  w->payload_ = std::fopen((w->tmp_ / "payload.bin").c_str(), "wb");
+  // Read too: cell nodes are built from the hlod_0 payloads already written (readBack).
+  w->payload_ = std::fopen((w->tmp_ / "payload.bin").c_str(), "w+b");
   if (!w->payload_) return makeError("cannot create " + (w->tmp_ / "payload.bin").string());
   return w;
 }
@@ -243,6 +258,13 @@ Status NodeStoreWriter::appendSharingTexture(const StoredPayload& payload, const
   node.textureBytes = owner.textureBytes;
   payloadBytes_ += payload.mesh.size();
   return Ok{};
+}
+
+Result<LocalMesh> NodeStoreWriter::readBack(const NodeInfo& node) {
+  if (std::fflush(payload_) != 0) return makeError("cannot write payload.bin (disk full?)");
+  std::vector<std::byte> bytes(node.payloadSize);
+  if (auto s = readStored(fileno(payload_), node, 0, 0, bytes); !s) return s.error();
+  return decodeStored(node, 0, bytes);
 }
 
 Status NodeStoreWriter::finish(const Skeleton& skeleton, StoreFacts facts) {

@@ -146,8 +146,9 @@ Status decodeQuadtree(store::ByteReader& r, Skeleton& s) {
       !std::isfinite(q.rect.maxU - q.rect.minU) || !std::isfinite(q.rect.maxV - q.rect.minV) ||
       !(q.rect.maxU > q.rect.minU) || !(q.rect.maxV > q.rect.minV))
     return bad("quadtree rectangle is not a finite, non-empty rectangle");
-  if (cellCount == 0 || blockCount != s.roots.size())
-    return bad("quadtree does not hold one block per root");
+  const std::vector<std::uint32_t> blockRoots = s.blockRoots();
+  if (cellCount == 0 || blockCount != blockRoots.size())
+    return bad("quadtree does not hold one block per hlod_0 node");
   q.cells.resize(cellCount);
   for (QuadCell& c : q.cells)
     if (!r.get(c.level) || !r.get(c.x) || !r.get(c.y) || !r.get(c.firstChild) ||
@@ -196,9 +197,9 @@ Status decodeQuadtree(store::ByteReader& r, Skeleton& s) {
           b.anchor.x > q.rect.maxU || b.anchor.y < q.rect.minV || b.anchor.y > q.rect.maxV ||
           quadCellAt(q.rect, q.depth, b.anchor) != glm::uvec2(c.x, c.y))
         return bad("quadtree block " + std::to_string(k) + " is not in its anchor's cell");
-      const auto at = std::lower_bound(s.roots.begin(), s.roots.end(), b.root);
-      if (at == s.roots.end() || *at != b.root)
-        return bad("quadtree block " + std::to_string(k) + " is not a root");
+      const auto at = std::lower_bound(blockRoots.begin(), blockRoots.end(), b.root);
+      if (at == blockRoots.end() || *at != b.root)
+        return bad("quadtree block " + std::to_string(k) + " is not a block's hlod_0 node");
       const Aabb& box = s.nodes[b.root].bounds;
       if (box.empty() || !contains(c.bounds, box)) return bad(name + " box misses a block's");
     }
@@ -313,10 +314,16 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
     if (!r.get(root)) return bad("truncated root list");
 
   // Structure: children contiguous after their parent, parent links consistent, levels
-  // increasing by one, payloads inside payload.bin. This also rules out cycles.
-  std::uint64_t parentless = 0;
+  // increasing by one below a block's node (0 below a cell node, cell nodes only below cell
+  // nodes), payloads inside payload.bin. This also rules out cycles.
+  std::uint64_t parentless = 0, cells = 0;
   for (std::uint32_t i = 0; i < nodeCount; ++i) {
     const NodeInfo& n = s.nodes[i];
+    if (n.isCell()) {
+      ++cells;
+      if (n.level != 0 || n.childCount == 0)
+        return bad("cell node " + std::to_string(i) + " has a level or no children");
+    }
     if (n.parent == kNoNode) {
       ++parentless;
       if (n.level != 0) return bad("root node " + std::to_string(i) + " has a non-zero level");
@@ -324,7 +331,8 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
       return bad("node " + std::to_string(i) + " has a bad parent");
     } else {
       const NodeInfo& p = s.nodes[n.parent];
-      if (i < p.firstChild || i - p.firstChild >= p.childCount || n.level != p.level + 1)
+      if (i < p.firstChild || i - p.firstChild >= p.childCount ||
+          n.level != (p.isCell() ? 0 : p.level + 1) || (n.isCell() && !p.isCell()))
         return bad("node " + std::to_string(i) + " is not among its parent's children");
     }
     if (n.childCount > 0) {
@@ -360,7 +368,9 @@ Result<DecodedSkeleton> decodeSkeleton(std::span<const std::byte> bytes) {
   }
   if (parentless != rootCount) return bad("root list does not match the parentless nodes");
   for (std::uint32_t root : s.roots)
-    if (root >= nodeCount || s.nodes[root].parent != kNoNode) return bad("bad root list");
+    if (root >= nodeCount || s.nodes[root].parent != kNoNode ||
+        (cells > 0 && !s.nodes[root].isCell()))
+      return bad("bad root list (with cell nodes, every root is one)");
   // Ascending (as the builder writes them): no root twice, and the quadtree walk can hand the
   // selectors its roots in this order by sorting them.
   for (std::size_t i = 1; i < s.roots.size(); ++i)

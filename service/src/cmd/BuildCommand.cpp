@@ -23,6 +23,7 @@ const char* const kBuildUsage =
     "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tris N]\n"
     "                   [--min-leaf-tris N] [--simplifier meshopt|openmesh|parry] [--c-tex X]\n"
     "                   [--max-block-tri N] [--block-size M] [--threads N]\n"
+    "                   [--cells auto|on|off]\n"
     "                   [--lod X] [--up x|y|z] [--quiet]\n"
     "\n"
     "Builds the HLOD node store (Lakhia et al. III-A/B) that `hlodr render` streams from disk.\n"
@@ -68,6 +69,10 @@ const char* const kBuildUsage =
     "                       (default 200000)\n"
     "  --block-size M       CityJSON: the side of the grid cells that group buildings into\n"
     "                       blocks, 1..100000 metres (default 100)\n"
+    "  --cells auto|on|off  cell nodes above the blocks: the HLOD of the block quadtree's\n"
+    "                       cells, each simplified from the nodes below it, so that far blocks\n"
+    "                       cost less than their hlod_0 (default auto: when the blocks' hlod_0\n"
+    "                       nodes hold more than 200,000 triangles, what a 33 ms frame draws)\n"
     "  --threads N          blocks built at once, 1..256 (default: one per core); memory grows\n"
     "                       with the blocks in flight, the store is the same for any N\n"
     "  --lod X              CityJSON: the level of detail to import, as the file names it (1, 2,\n"
@@ -92,10 +97,10 @@ std::string formatSeconds(double s) {
 }  // namespace
 
 int runBuild(const Argv& argv) {
-  auto args =
-      Args::parse(argv, {"quiet"},
-                  {"output", "level-factor", "desired-tris", "desired-tri", "simplifier", "c-tex",
-                   "max-block-tri", "lod", "up", "min-leaf-tris", "threads", "block-size"});
+  auto args = Args::parse(
+      argv, {"quiet"},
+      {"output", "level-factor", "desired-tris", "desired-tri", "simplifier", "c-tex",
+       "max-block-tri", "lod", "up", "min-leaf-tris", "threads", "block-size", "cells"});
   if (!args) {
     std::fprintf(stderr, "hlodr build: %s\n%s", args.message().c_str(), kBuildUsage);
     return 2;
@@ -141,6 +146,15 @@ int runBuild(const Argv& argv) {
                  options.simplifier.c_str());
     return 2;
   }
+  const std::string cells = args->get("cells", "auto");
+  if (cells != "auto" && cells != "on" && cells != "off") {
+    std::fprintf(stderr, "hlodr build: --cells must be auto, on or off (not '%s')\n",
+                 cells.c_str());
+    return 2;
+  }
+  options.cells = cells == "on"    ? hlod::CellMode::On
+                  : cells == "off" ? hlod::CellMode::Off
+                                   : hlod::CellMode::Auto;
   if (auto up = args->get("up")) {
     options.up = hlod::parseUpAxis(*up);
     if (!options.up) {
@@ -178,6 +192,12 @@ int runBuild(const Argv& argv) {
     const double eta =
         p.blocksDone ? p.seconds / double(p.blocksDone) * double(p.blockCount - p.blocksDone) : 0.0;
     char text[160];
+    if (p.cellCount > 0) {
+      std::snprintf(text, sizeof text, "cell nodes: quadtree cell %zu/%zu", p.cellsDone,
+                    p.cellCount);
+      lines.update(double(p.cellsDone) / double(p.cellCount), text);
+      return;
+    }
     std::snprintf(text, sizeof text, "%zu/%zu blocks, %.2f M input triangles/s, ETA %s",
                   p.blocksDone, p.blockCount, rate / 1e6, formatSeconds(eta).c_str());
     lines.update(p.blockCount ? double(p.blocksDone) / double(p.blockCount) : 1.0, text);
@@ -231,13 +251,17 @@ int runBuild(const Argv& argv) {
   }
   if (!quiet) {
     std::uint32_t depth = 0;
-    for (const auto& n : built->nodes) depth = std::max(depth, n.level + 1);
+    std::size_t cellNodes = 0;
+    for (const auto& n : built->nodes) {
+      depth = std::max(depth, n.level + 1);
+      cellNodes += n.isCell();
+    }
     std::printf(
-        "wrote %s: %zu nodes from %zu blocks, depth %u (levelFactor %d, desiredTri %u, "
-        "%s, c_tex %.3f from %s), %s up\n",
-        out->c_str(), built->nodes.size(), built->roots.size(), depth, options.levelFactor,
-        options.desiredTri, options.simplifier.c_str(), options.cTex, cTexSource.c_str(),
-        hlod::upAxisName(built->up));
+        "wrote %s: %zu nodes from %zu blocks, depth %u, %zu cell nodes (levelFactor %d, "
+        "desiredTri %u, %s, c_tex %.3f from %s), %s up\n",
+        out->c_str(), built->nodes.size(), built->blockRoots().size(), depth, cellNodes,
+        options.levelFactor, options.desiredTri, options.simplifier.c_str(), options.cTex,
+        cTexSource.c_str(), hlod::upAxisName(built->up));
     const hlod::BlockQuadtree& q = built->quadtree;
     const hlod::QuadtreeStats qs = hlod::quadtreeStats(q);
     std::printf(

@@ -209,6 +209,7 @@ int runInfo(const Argv& argv) {
     std::uint64_t fewest = 0, splats = 0;  // Parry: triangles at the coarsest progression
   };
   std::map<std::uint32_t, Level> levels;
+  Level cells;  // cell nodes (Skeleton.h), above the blocks' levels
   std::set<std::uint64_t> textureSections;
   std::uint64_t leafTriangles = 0;
   std::vector<std::uint32_t> leafTris, nodeTris;
@@ -216,7 +217,7 @@ int runInfo(const Argv& argv) {
     const auto& n = s.nodes[i];
     nodeTris.push_back(n.numTri);
     if (s.isLeaf(i)) leafTris.push_back(n.numTri);
-    auto& l = levels[n.level];
+    auto& l = n.isCell() ? cells : levels[n.level];
     ++l.nodes;
     l.triangles += n.numTri;
     l.fewest += n.progressive() ? n.minTri : n.numTri;
@@ -289,18 +290,24 @@ int runInfo(const Argv& argv) {
     j["trianglesPerNode"] = {{"leaves", toJson(leafSpread)}, {"allNodes", toJson(nodeSpread)}};
     j["payloadBytes"] = f.payloadBytes;
     j["buildSeconds"] = f.buildSeconds;
+    const auto levelJson = [](const Level& l) {
+      return nlohmann::json{{"nodes", l.nodes},
+                            {"leaves", l.leaves},
+                            {"triangles", l.triangles},
+                            {"payloadBytes", l.payloadBytes},
+                            {"memoryBytes", l.memoryBytes},
+                            {"texturePayloadBytes", l.textureStored},
+                            {"textureMemoryBytes", l.textureBytes},
+                            {"fewestTriangles", l.fewest},
+                            {"splats", l.splats}};
+    };
+    j["cells"] = levelJson(cells);
     j["levels"] = nlohmann::json::array();
-    for (const auto& [d, l] : levels)
-      j["levels"].push_back({{"level", d},
-                             {"nodes", l.nodes},
-                             {"leaves", l.leaves},
-                             {"triangles", l.triangles},
-                             {"payloadBytes", l.payloadBytes},
-                             {"memoryBytes", l.memoryBytes},
-                             {"texturePayloadBytes", l.textureStored},
-                             {"textureMemoryBytes", l.textureBytes},
-                             {"fewestTriangles", l.fewest},
-                             {"splats", l.splats}});
+    for (const auto& [d, l] : levels) {
+      nlohmann::json level = levelJson(l);
+      level["level"] = d;
+      j["levels"].push_back(level);
+    }
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -334,7 +341,7 @@ int runInfo(const Argv& argv) {
   std::printf("leaf / input  %.4f\n", leafRatio);
   std::printf("tris/node     leaves: %s\n", describe(leafSpread).c_str());
   std::printf("              all nodes: %s\n", describe(nodeSpread).c_str());
-  Level all;
+  Level all = cells;
   for (const auto& [d, l] : levels) {
     all.memoryBytes += l.memoryBytes;
     all.textureStored += l.textureStored;
@@ -350,11 +357,14 @@ int runInfo(const Argv& argv) {
   std::printf(
       "\n  level     nodes    leaves     triangles   stored MB  decoded MB  texture MB"
       "       fewest     splats\n");
-  for (const auto& [d, l] : levels)
-    std::printf("  %5u  %8zu  %8zu  %12llu  %10.2f  %10.2f  %10.2f  %11llu  %9llu\n", d, l.nodes,
-                l.leaves, (unsigned long long)l.triangles, double(l.payloadBytes) / 1e6,
+  const auto row = [](const std::string& name, const Level& l) {
+    std::printf("  %5s  %8zu  %8zu  %12llu  %10.2f  %10.2f  %10.2f  %11llu  %9llu\n", name.c_str(),
+                l.nodes, l.leaves, (unsigned long long)l.triangles, double(l.payloadBytes) / 1e6,
                 double(l.memoryBytes) / 1e6, double(l.textureBytes) / 1e6,
                 (unsigned long long)l.fewest, (unsigned long long)l.splats);
+  };
+  if (cells.nodes > 0) row("cells", cells);
+  for (const auto& [d, l] : levels) row(std::to_string(d), l);
   return 0;
 }
 

@@ -42,10 +42,8 @@ nlohmann::json Scene::summary() const {
   hlod::Aabb bounds;
   std::uint32_t depth = 0;
   std::uint64_t hlod0 = 0, leaves = 0;
-  for (std::uint32_t r : sk.roots) {
-    bounds.extend(sk.nodes[r].bounds);
-    hlod0 += sk.nodes[r].numTri;
-  }
+  for (std::uint32_t r : sk.roots) bounds.extend(sk.nodes[r].bounds);
+  for (std::uint32_t r : sk.blockRoots()) hlod0 += sk.nodes[r].numTri;
   for (std::uint32_t n = 0; n < sk.nodes.size(); ++n) {
     depth = std::max(depth, sk.nodes[n].level);
     if (sk.isLeaf(n)) leaves += sk.nodes[n].numTri;
@@ -55,7 +53,7 @@ nlohmann::json Scene::summary() const {
           {"nodes", sk.nodes.size()},
           {"levels", depth + 1},
           {"depth", depth},
-          {"blocks", sk.roots.size()},
+          {"blocks", sk.blockRoots().size()},
           {"triangles",
            {{"input", store->facts().inputTriangles}, {"hlod0", hlod0}, {"leaves", leaves}}},
           {"bounds", {{"min", vec(bounds.min)}, {"max", vec(bounds.max)}}},

@@ -50,6 +50,12 @@ constexpr std::uint32_t kDefaultMinLeafTri = 2000;
 // c_tex used when neither --c-tex nor a calibration file gives one.
 constexpr double kDefaultCTex = 0.6;
 
+enum class CellMode { Auto, On, Off };
+// Above this many hlod_0 triangles in all, Auto builds cell nodes: about what a 33 ms frame
+// draws on llvmpipe (6-7 M triangles/s), so a view of every block at hlod_0 no longer fits the
+// budget. Below it cells would only add a selection level (the default city: 51-124 k).
+constexpr std::uint64_t kCellTriangles = 200000;
+
 // An axis-aligned plane p[axis] == value: where a block's ground meets its neighbour's, or where
 // a node's piece was divided.
 struct CutPlane {
@@ -72,6 +78,9 @@ struct BuildOptions {
   // The side of the grid that groups a CityJSON model's buildings into blocks (CityBlocks.h),
   // in the model's units (metres).
   double blockSize = kDefaultBlockSize;
+  // Cell nodes above the blocks (builder/CellNodes.h): Auto builds them when the blocks' hlod_0
+  // nodes hold more than kCellTriangles in all.
+  CellMode cells = CellMode::Auto;
 };
 
 // One node of a block's hierarchy, as built in memory (world coordinates, double).
@@ -137,6 +146,9 @@ struct BuildProgress {
   std::size_t blockCount = 0;
   std::uint64_t trianglesDone = 0;  // input triangles of the finished blocks
   double seconds = 0.0;
+  // After the blocks, the cell nodes' pass (BuildOptions::cells): quadtree cells done of all.
+  std::size_t cellsDone = 0;
+  std::size_t cellCount = 0;
 };
 using BuildProgressFn = std::function<void(const BuildProgress&)>;
 
@@ -150,6 +162,9 @@ struct PreparedBlock {
   // The block's geographic anchor (Parry sec. 3), when its input has one: where the quadtree
   // places it.
   std::optional<LatLon> anchor;
+  // The block's sides and seam (as addBlock's): what its cell node locks.
+  std::vector<CutPlane> sides;
+  std::vector<glm::dvec3> seam;
 };
 
 // Streams blocks into a node store at `dir` (written under a temporary name, renamed in finish).
@@ -169,9 +184,13 @@ class HlodBuilder {
   PreparedBlock prepareBlock(const Mesh& block, std::span<const glm::dvec3> seam = {},
                              std::span<const CutPlane> sides = {}) const;
   Status commitBlock(PreparedBlock&& block);
-  // Writes the skeleton, with the quadtree of the blocks (quadtreeOfRoots), and moves the store
-  // into place. An Error when no block added a node (nothing to draw): no empty store is written.
-  Result<Skeleton> finish(double buildSeconds);
+  // Writes the skeleton, with the quadtree of the blocks (quadtreeOfRoots) and cell nodes above
+  // them (BuildOptions::cells), and moves the store into place. An Error when no block added a
+  // node (nothing to draw): no empty store is written.
+  // progress: called as the cell pass goes, with blocks all done.
+  Result<Skeleton> finish(double buildSeconds, const std::function<void(std::size_t done,
+                                                                         std::size_t total)>&
+                                                   progress = {});
   const Skeleton& skeleton() const { return skeleton_; }
   std::uint64_t inputTriangles() const { return inputTriangles_; }
 
@@ -184,6 +203,8 @@ class HlodBuilder {
   std::uint64_t inputTriangles_ = 0;
   std::uint32_t blockCount_ = 0;
   std::vector<std::optional<LatLon>> anchors_;  // per root
+  std::vector<std::vector<CutPlane>> sides_;    // per block
+  std::vector<std::vector<glm::dvec3>> seams_;  // per block
 };
 
 // The quadtree of a skeleton's roots (Parry sec. 3). When every root has a geographic anchor:

@@ -51,6 +51,13 @@ class Simplifier {
   virtual SimplifiedMesh simplify(
       const Mesh& mesh, std::size_t targetTriangles, const std::vector<std::uint8_t>& locked = {},
       double errorLimit = std::numeric_limits<double>::infinity()) const;
+  // simplify for a union of separate coarse meshes (a cell node's children, each open where it
+  // meets the others and its ground): edge collapses stall on those borders in every round of
+  // the shape guard, so vertex clustering finishes each round, not only the first. (parry:
+  // simplify, whose clustering needs no help.)
+  virtual SimplifiedMesh simplifyUnion(const Mesh& mesh, std::size_t targetTriangles,
+                                       const std::vector<std::uint8_t>& locked,
+                                       double errorLimit) const;
 
   // What the implementations see: one vertex per distinct position.
   struct Shape {
@@ -62,6 +69,11 @@ class Simplifier {
     std::vector<std::uint32_t> indices;  // kept triangles, indices into Shape::positions
     double geometricError = 0.0;         // world units
   };
+
+ private:
+  SimplifiedMesh simplifyShape(const Mesh& mesh, std::size_t targetTriangles,
+                               const std::vector<std::uint8_t>& locked, double errorLimit,
+                               bool clusterEveryRound) const;
 
  protected:
   // The simplifier proper, for a non-empty shape above the target; it may stop above the target

@@ -18,7 +18,7 @@
 //     an upload), loadErrors and bytesRead (cumulative, of the loader), cacheHits (cumulative:
 //     nodes another session had decoded already), partialNodes (front nodes drawn with fewer
 //     triangles than their own, from their progression), splatNodes and splats (front nodes drawn
-//     as splats, and their splats).
+//     as splats, and their splats), cellNodes (front nodes that are cell nodes, Skeleton.h).
 //   summary: frames, medianRelError and p95RelError (of |gpuMs - targetMs| / targetMs),
 //     shareOverTarget and shareOver125 (fraction of frames with gpuMs > target, > 1.25 target),
 //     p99OverTarget (p99 of gpuMs / targetMs), meanGpuMs, totalStalls, peakResidentBytes,
@@ -77,6 +77,7 @@ struct FrameRecord {
   std::uint32_t partialNodes = 0;  // front nodes drawn with fewer triangles (Parry's arrays)
   std::uint32_t splatNodes = 0;    // front nodes drawn as splats
   std::uint64_t splats = 0;
+  std::uint32_t cellNodes = 0;  // front nodes that are cell nodes
 };
 
 // Copies the selector's part (targetMs, estimatedMs, triangles, levels, toggles, vTime, ...).

@@ -27,7 +27,8 @@ class QuadtreeCulling {
   explicit QuadtreeCulling(const Skeleton& skeleton);
 
   // Fills `roots` with the roots of every leaf cell reached, in ascending order (the order of
-  // Skeleton::roots, which decodeSkeleton checks); without a quadtree, with Skeleton::roots.
+  // Skeleton::roots, which decodeSkeleton checks); without a quadtree, or with cell nodes (the
+  // quadtree's blocks are then not roots; the cells cull them), with Skeleton::roots.
   // falloff: c_visFalloff (a negative or NaN one counts as 0).
   QuadtreeWalk candidateRoots(const Frustum& frustum, double falloff,
                               std::vector<std::uint32_t>& roots) const;

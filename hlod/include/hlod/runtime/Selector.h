@@ -27,7 +27,7 @@
 
 namespace hlod {
 
-// Which nodes can be drawn now. hlod_0 nodes must always answer true.
+// Which nodes can be drawn now. Roots (hlod_0 nodes, or the top cell) must always answer true.
 class Residency {
  public:
   virtual ~Residency() = default;
@@ -85,7 +85,8 @@ struct Selection {
   std::uint32_t downToggles = 0;  // nodes whose children were drawn last frame, drawn now
   std::uint32_t fogCulled = 0;    // visible nodes left out: wholly beyond View::fogCullDistance
   std::uint32_t coarserBecauseNotResident = 0;    // drawn coarser: a visible child not resident
-  std::vector<std::uint32_t> nodesDrawnPerLevel;  // index = level d of hlod_d
+  std::vector<std::uint32_t> nodesDrawnPerLevel;  // index = level d of hlod_d (blocks' nodes)
+  std::uint32_t cellsDrawn = 0;                   // cell nodes drawn (Skeleton.h)
   std::uint64_t triangles = 0;                    // triangles drawn (draws)
   // Per node of front, in its order (Selector::planDraws): whole, fewer triangles, or splats.
   std::vector<NodeDraw> draws;

@@ -13,7 +13,9 @@
 //     root, f64 anchor u, v), then a 64-bit FNV-1a of all preceding bytes. Version 4 added the
 //     model frame, version 5 the texture section's offset (NodeInfo::textureOffset), version 6
 //     the block quadtree and the progression's and the splats' counts (NodeInfo::minTri,
-//     splatCount); other versions are refused with "rebuild it" (stores are derived data).
+//     splatCount), version 7 cell nodes (NodeInfo::block kCellBlock, level 0; the quadtree's
+//     blocks are the hlod_0 nodes below them); other versions are refused with "rebuild it" (stores
+//     are derived data).
 //   payload: u32 "HLPL", u32 version, u32 vertexCount, u32 indexCount, u32 flags (1: texCoords,
 //     2: one-sided, 4: progression, 8: splats), u32 texWidth, u32 texHeight, f32 baseColor[4], f32
 //     positions[3 vc] (relative to the node's centre), f32 normals[3 vc], f32 texCoords[2 vc] (if
@@ -42,7 +44,7 @@
 
 namespace hlod {
 
-constexpr std::uint32_t kSkeletonFormatVersion = 6;
+constexpr std::uint32_t kSkeletonFormatVersion = 7;
 constexpr std::uint32_t kMaxCrsDescription = 256;  // bytes of ModelCrs::description kept
 constexpr std::uint32_t kPayloadFormatVersion = 3;
 
@@ -84,10 +86,11 @@ StoredPayload storePayload(const LocalMesh& mesh, bool withTexture = true);
 // skeleton.bin encoding; decoding verifies the checksum, the tree's structure and the build
 // parameters. A decoded skeleton guarantees what the rest of hlodr asserts: children
 // [firstChild, firstChild + childCount) lie after their parent and inside nodes, each child's
-// parent and level agree with it, roots are exactly the parentless nodes in ascending order,
-// a quadtree (when there is one) holds every root exactly once, each in the leaf cell (at its
-// depth) that quadCellAt gives for its anchor, each cell's box holding its blocks' hlod_0 boxes
-// and its children's, children one quadrant each of their parent; payloads lie inside
+// parent and level agree with it, roots are exactly the parentless nodes in ascending order
+// (all cell nodes when there are cell nodes, which have level 0 and sit only below cell nodes),
+// a quadtree (when there is one) holds every block's hlod_0 node exactly once, each in the leaf
+// cell (at its depth) that quadCellAt gives for its anchor, each cell's box holding its blocks'
+// hlod_0 boxes and its children's, children one quadrant each of their parent; payloads lie inside
 // payload.bin, every double is finite, levelFactor is in [2, 64], c_tex in [0, 1], desiredTri
 // at least 1, the build time finite and not negative, the up axis x, y or z, and the CRS
 // description printable ASCII (the encoder replaces other bytes by '?' and cuts it to
@@ -148,6 +151,8 @@ class NodeStoreWriter {
   // Appends payload's mesh section only; node's texture is the section `owner` (appended before)
   // stored. payload.memoryBytes counts the pixels, as the node holds them once decoded.
   Status appendSharingTexture(const StoredPayload& payload, const NodeInfo& owner, NodeInfo& node);
+  // Reads and decodes the payload a node appended before (what the skeleton's node says).
+  Result<LocalMesh> readBack(const NodeInfo& node);
   // Writes skeleton.bin, flushes, and renames the folder to its destination (replacing an
   // existing store there).
   Status finish(const Skeleton& skeleton, StoreFacts facts);

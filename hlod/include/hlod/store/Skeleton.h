@@ -14,13 +14,19 @@
 namespace hlod {
 
 constexpr std::uint32_t kNoNode = 0xffffffffu;
+// NodeInfo::block of a cell node: it belongs to no one block.
+constexpr std::uint32_t kCellBlock = 0xffffffffu;
 
+// A node is a block's (its hlod_0 node, the block's root, and the nodes below it) or a cell node:
+// the HLOD of a quadtree cell above the blocks (Manocha sec. 2.2: "the HLODs of intermediate
+// nodes are computed by combining the LODs of the nodes with the HLODs of the node's children"),
+// whose children are cell nodes and hlod_0 nodes (CellNodes.h says when a store has them).
 struct NodeInfo {
-  std::uint32_t parent = kNoNode;  // kNoNode for an hlod_0 node (a block's root)
+  std::uint32_t parent = kNoNode;  // kNoNode for a root: an hlod_0 node, or a top cell node
   std::uint32_t firstChild = 0;    // children are contiguous: [firstChild, firstChild+childCount)
   std::uint32_t childCount = 0;
-  std::uint32_t level = 0;  // d of hlod_d: 0 for block roots
-  std::uint32_t block = 0;  // index of the block the node belongs to
+  std::uint32_t level = 0;  // d of hlod_d: 0 for block roots and for cell nodes
+  std::uint32_t block = 0;  // index of the block the node belongs to; kCellBlock for a cell node
   Aabb bounds;              // world space, double
   glm::dvec3 centre{0.0};   // payload vertices are float, relative to this
   std::uint32_t numTri = 0;
@@ -48,6 +54,7 @@ struct NodeInfo {
   std::uint32_t textureChecksum = 0;  // CRC-32 of the texture section's stored bytes
   std::uint64_t textureBytes = 0;     // its decoded RGBA8 pixels
   std::uint64_t meshSize() const { return payloadSize - textureSize; }
+  bool isCell() const { return block == kCellBlock; }
 };
 
 struct BuildParams {
@@ -59,19 +66,27 @@ struct BuildParams {
 
 struct Skeleton {
   std::vector<NodeInfo> nodes;
-  std::vector<std::uint32_t> roots;  // the hlod_0 nodes, one per block
+  // The parentless nodes, ascending: the hlod_0 nodes (one per block), or with cell nodes the
+  // top cell node(s).
+  std::vector<std::uint32_t> roots;
   BuildParams params;
   // What the input declared about its world: the axis it stands on (camera paths and default
   // views circle it) and its coordinate reference system (for `hlodr info`; never consulted by
   // the runtime). Z up by default: a city folder's blocks are metres with Z up.
   UpAxis up = UpAxis::Z;
   ModelCrs crs;
-  // The blocks' roots by their latitude/longitude anchors (Parry sec. 3): a culling structure on
-  // top of roots, which stay the hlod_0 nodes. Empty for a skeleton made without one (every
-  // root is then visited); a built store always has one, holding every root once.
+  // The blocks' hlod_0 nodes by their latitude/longitude anchors (Parry sec. 3): a culling
+  // structure on top of them, and what cell nodes are built from. Empty for a skeleton made
+  // without one (every root is then visited); a built store always has one, holding every
+  // block's hlod_0 node once. With cell nodes the culling walk is theirs (QuadtreeCulling).
   BlockQuadtree quadtree;
 
   bool isLeaf(std::uint32_t n) const { return nodes[n].childCount == 0; }
+  bool hasCells() const {
+    return !roots.empty() && roots.size() <= nodes.size() && nodes[roots.front()].isCell();
+  }
+  // The blocks' hlod_0 nodes, ascending: roots, or below the cell nodes.
+  std::vector<std::uint32_t> blockRoots() const;
 };
 
 }  // namespace hlod
