@@ -102,11 +102,14 @@ function formatValue(v) {
   return Number.isInteger(v) ? String(v) : v.toFixed(v >= 100 ? 0 : v >= 10 ? 1 : 2);
 }
 
+// The levels of the blocks' nodes, below the cell nodes above the blocks (a store built with
+// cells: `hlodr build --cells`), which are counted apart.
 function levelSeries(count) {
-  return Array.from({ length: count }, (_, level) => {
+  const cells = { label: 'cells', colour: '#777777', fill: '#777777', value: (r) => r.cellNodes || 0 };
+  return [cells, ...Array.from({ length: count }, (_, level) => {
     const colour = LEVEL_COLOURS[Math.round((level * (LEVEL_COLOURS.length - 1)) / Math.max(1, count - 1))];
     return { label: `L${level}`, colour, fill: colour, value: (r) => (r.nodesPerLevel || [])[level] || 0 };
-  });
+  })];
 }
 
 // All charts of the dashboard; reset() before a new job, add(record) per frame event.

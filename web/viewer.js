@@ -209,7 +209,9 @@ export class Viewer {
         el('i', { class: level, style: `width: ${Math.min(100, (ratio || 0) * 50)}%` })),
       el('div', {}, `${formatCount(s.triangles)} triangles · ${this.settings.selector}`),
       el('div', { class: 'ov-levels', title: 'nodes drawn per HLOD level' },
-        'nodes per level ', levels.map((n, i) => el('span', {}, el('span', { class: 'ov-level' }, `L${i}`), ` ${n}`))),
+        'nodes per level ',
+        s.cellNodes ? el('span', {}, el('span', { class: 'ov-level' }, 'cells'), ` ${s.cellNodes}`) : '',
+        levels.map((n, i) => el('span', {}, el('span', { class: 'ov-level' }, `L${i}`), ` ${n}`))),
       el('div', { class: 'ov-timing' },
         `server ${formatMs(timing.total)} ms · round trip ${formatMs(roundTripMs)} ms`),
       parts.length
