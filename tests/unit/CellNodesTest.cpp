@@ -371,6 +371,12 @@ TEST(CellNodes, PartsJoinedRoundACourtyardAreNoBox) {
   addBoxPart(m, {48, 2, 0}, {50, 48, 20}, 1.0f, 2.0f);
   // The side slabs start where the long ones end: they share corner positions, one part.
   const std::size_t before = m.triangleCount();
-  EXPECT_TRUE(takeBuildings(m, colours, UpAxis::Z).empty());
-  EXPECT_EQ(m.triangleCount(), before);
+  Mesh kept = m;
+  EXPECT_TRUE(takeBuildings(kept, colours, UpAxis::Z).empty());
+  EXPECT_EQ(kept.triangleCount(), before);
+  // Asked for them, it hands them over: simplified apart from the ground.
+  std::vector<std::uint32_t> others;
+  EXPECT_TRUE(takeBuildings(m, colours, UpAxis::Z, &others).empty());
+  EXPECT_EQ(m.triangleCount(), 0u);
+  EXPECT_EQ(others.size(), 3 * before);
 }

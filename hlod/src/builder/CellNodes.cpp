@@ -342,7 +342,8 @@ void addUnderlay(Mesh& mesh, const Mesh& input, std::vector<glm::vec4>& colours,
   mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
 }
 
-std::vector<BuildingBox> takeBuildings(Mesh& mesh, std::span<const glm::vec4> colours, UpAxis up) {
+std::vector<BuildingBox> takeBuildings(Mesh& mesh, std::span<const glm::vec4> colours, UpAxis up,
+                                       std::vector<std::uint32_t>* others) {
   const int u = int(up), e0 = (u + 1) % 3, e1 = (u + 2) % 3;
   // Components by position: a union-find over the triangles' corners.
   std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> id;
@@ -423,8 +424,11 @@ std::vector<BuildingBox> takeBuildings(Mesh& mesh, std::span<const glm::vec4> co
       }
     // A wall without thickness, or buildings joined around a courtyard (roofs covering less than
     // kBoxFill of the box), stay as they are: a box would be a slab over the courtyard.
-    if (!(hi.x > lo.x && hi.y > lo.y) || roofFootprint < kBoxFill * (hi.x - lo.x) * (hi.y - lo.y))
+    if (!(hi.x > lo.x && hi.y > lo.y) || roofFootprint < kBoxFill * (hi.x - lo.x) * (hi.y - lo.y)) {
+      if (others)
+        for (std::uint32_t t : part.triangles) taken[t] = 2;
       continue;
+    }
     b.lo = lo;
     b.hi = hi;
     // As high as the volume under its roofs over their footprint: a tower on a podium becomes
@@ -438,8 +442,11 @@ std::vector<BuildingBox> takeBuildings(Mesh& mesh, std::span<const glm::vec4> co
     out.push_back(b);
   }
   std::vector<std::uint32_t> kept;
-  for (std::uint32_t t = 0; t * 3 < mesh.indices.size(); ++t)
-    if (!taken[t]) kept.insert(kept.end(), &mesh.indices[3 * t], &mesh.indices[3 * t] + 3);
+  for (std::uint32_t t = 0; t * 3 < mesh.indices.size(); ++t) {
+    const std::uint32_t* tri = &mesh.indices[3 * t];
+    if (!taken[t]) kept.insert(kept.end(), tri, tri + 3);
+    if (taken[t] == 2) others->insert(others->end(), tri, tri + 3);
+  }
   mesh.indices = std::move(kept);
   // The tallest and widest first: what a far view keeps longest.
   std::sort(out.begin(), out.end(), [](const BuildingBox& a, const BuildingBox& b) {
@@ -568,17 +575,40 @@ Result<NodeInfo> buildCell(
   // A city's buildings become boxes (LoD1 block models), the tallest and widest first within
   // half the target; the rest of the target is the ground's.
   std::vector<BuildingBox> buildings;
-  if (!sides.empty()) buildings = takeBuildings(merged, coloured.colours, up);
+  Mesh complexes;  // buildings that are no box: simplified apart from the ground
+  if (!sides.empty()) {
+    buildings = takeBuildings(merged, coloured.colours, up, &complexes.indices);
+    complexes.positions = merged.positions;
+    complexes.normals = merged.normals;
+    complexes.texCoords = merged.texCoords;
+    complexes.oneSided = merged.oneSided;
+  }
   const std::size_t keptBoxes = std::min(buildings.size(), target / 2 / kBoxTriangles);
   double dropped = 0.0;
   for (std::size_t k = keptBoxes; k < buildings.size(); ++k)
     dropped = std::max(dropped, buildings[k].top - buildings[k].bottom);
-  const std::size_t groundTarget = std::max<std::size_t>(1, target - keptBoxes * kBoxTriangles);
-  const double factor =
-      double(merged.triangleCount()) / double(std::max<std::size_t>(1, groundTarget));
-  SimplifiedMesh simplified = pass.simplifier.simplifyUnion(
-      merged, groundTarget, locked,
-      errorLimit(surfaceArea(merged), merged.triangleCount(), factor));
+  // The rest of the target, shared by the ground and the other buildings as their triangles.
+  const std::size_t rest = std::max<std::size_t>(2, target - keptBoxes * kBoxTriangles);
+  const std::size_t all = merged.triangleCount() + complexes.triangleCount();
+  const auto simplifyShare = [&](const Mesh& part) {
+    const std::size_t share =
+        std::max<std::size_t>(1, std::size_t(double(rest) * double(part.triangleCount()) /
+                                             double(std::max<std::size_t>(1, all))));
+    const double factor = double(part.triangleCount()) / double(share);
+    return pass.simplifier.simplifyUnion(
+        part, share, locked, errorLimit(surfaceArea(part), part.triangleCount(), factor));
+  };
+  SimplifiedMesh simplified = simplifyShare(merged);
+  if (complexes.triangleCount() > 0) {
+    const SimplifiedMesh other = simplifyShare(complexes);
+    simplified.geometricError = std::max(simplified.geometricError, other.geometricError);
+    const auto base = std::uint32_t(simplified.mesh.positions.size());
+    Mesh& m = simplified.mesh;
+    m.positions.insert(m.positions.end(), other.mesh.positions.begin(), other.mesh.positions.end());
+    m.normals.insert(m.normals.end(), other.mesh.normals.begin(), other.mesh.normals.end());
+    m.texCoords.insert(m.texCoords.end(), other.mesh.texCoords.begin(), other.mesh.texCoords.end());
+    for (std::uint32_t i : other.mesh.indices) m.indices.push_back(base + i);
+  }
   info.geometricError += std::max(simplified.geometricError, dropped);
   // Without a progression (parry's would index the vertices flatColoured renumbers): a cell is
   // drawn whole.

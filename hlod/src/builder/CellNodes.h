@@ -77,7 +77,9 @@ constexpr double kBoxFill = 0.5;
 // to the main direction of its walls' edges, coloured by the area-weighted mean of its triangles
 // facing up (the roof) and of the others (the walls). Leaves the ground's triangles in the mesh;
 // the boxes come tallest and widest (BuildingBox::silhouette) first.
-std::vector<BuildingBox> takeBuildings(Mesh& mesh, std::span<const glm::vec4> colours, UpAxis up);
+// others (when given): the triangles of the parts that are buildings but no box, taken out too.
+std::vector<BuildingBox> takeBuildings(Mesh& mesh, std::span<const glm::vec4> colours, UpAxis up,
+                                       std::vector<std::uint32_t>* others = nullptr);
 // Appends a box's roof and walls (no floor), facing out, with their colours' indices.
 void appendBox(Mesh& mesh, const BuildingBox& box, std::vector<glm::vec4>& colours, UpAxis up);
 
@@ -104,7 +106,9 @@ struct CellPass {
 //   cell locked and the outline kept on its outer sides (markOutline), as a block's nodes are;
 // - when its blocks have sides (a city's ground reaching the middles of its streets), its
 //   buildings as boxes (takeBuildings), the largest within half the target, the rest dropped
-//   (their height counts in its geometric error), the ground simplified to the rest, and
+//   (their height counts in its geometric error), the ground and the buildings that are no box
+//   simplified apart (so that no triangle joins a roof to the street) to the rest, shared as
+//   their triangles, and
 // - an underlay when its blocks have sides (a city's ground reaching the middles of its
 //   streets): its footprint at the colour of its lowest ground, kUnderlayDepth of its size below
 //   it, which shows where the simplification opened a street (no sky through the ground);
