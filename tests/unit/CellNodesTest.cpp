@@ -99,6 +99,13 @@ TEST(CellNodes, AStoreWithCellsHasOneCellRootAboveEveryBlocksHlod0) {
     EXPECT_EQ(n.minTri, 0u);  // drawn whole
     auto mesh = cellCity().cells->loadNode(i);
     ASSERT_TRUE(mesh.ok()) << mesh.message();
+    // Its box holds what it draws (the underlay below the children's boxes too).
+    for (const glm::vec3& q : mesh->positions) {
+      const glm::dvec3 w = mesh->centre + glm::dvec3(q);
+      EXPECT_TRUE(glm::all(glm::lessThanEqual(n.bounds.min - 1e-3, w)) &&
+                  glm::all(glm::lessThanEqual(w, n.bounds.max + 1e-3)))
+          << "cell " << i << " draws outside its box";
+    }
     // Flat colours: the three corners of a triangle on one texel's centre.
     ASSERT_TRUE(mesh->texture);
     for (std::size_t k = 0; k + 2 < mesh->indices.size(); k += 3) {

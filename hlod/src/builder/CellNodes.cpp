@@ -616,6 +616,8 @@ Result<NodeInfo> buildCell(
   for (std::size_t k = 0; k < keptBoxes; ++k) appendBox(simplified.mesh, buildings[k], colours, up);
   if (!sides.empty()) addUnderlay(simplified.mesh, coloured.mesh, colours, info.bounds, up);
   simplified.mesh = flatColoured(simplified.mesh, colours);
+  // The box holds what the node draws: its children's boxes, and its underlay below them.
+  info.bounds.extend(simplified.mesh.bounds());
   describeNode(info, simplified.mesh, pass.options.cTex);
   LocalMesh local = localAround(simplified.mesh, info.centre);
   local.splats = makeSplats(local);
