@@ -158,8 +158,7 @@ int main(int argc, char** argv) {
       const double leaves = info["leafTriangles"].get<double>();
       std::printf("%-34s %-8s %10.0f %10.0f %6.3f %9.1f %9s %9s %9s %7.1f %7.3f %8.0f\n", c.c_str(),
                   s.c_str(), in, leaves, leaves / in, info["payloadBytes"].get<double>() / 1e6,
-                  mb(info, "texturePayloadBytes").c_str(),
-                  mb(info, "memoryBytes").c_str(),
+                  mb(info, "texturePayloadBytes").c_str(), mb(info, "memoryBytes").c_str(),
                   mb(info, "textureMemoryBytes").c_str(), r.seconds, in / r.seconds / 1e6,
                   r.peakMb);
       std::fflush(stdout);

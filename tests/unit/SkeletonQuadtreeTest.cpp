@@ -1,6 +1,6 @@
-// The block quadtree in skeleton.bin (since format version 6): it round-trips, and forged or corrupt
-// quadtree bytes are an error with a message, never a crash, and never a tree that would hide a
-// root from the selectors.
+// The block quadtree in skeleton.bin (since format version 6): it round-trips, and forged or
+// corrupt quadtree bytes are an error with a message, never a crash, and never a tree that would
+// hide a root from the selectors.
 #include <gtest/gtest.h>
 
 #include <cstring>

@@ -188,9 +188,9 @@ class HlodBuilder {
   // them (BuildOptions::cells), and moves the store into place. An Error when no block added a
   // node (nothing to draw): no empty store is written.
   // progress: called as the cell pass goes, with blocks all done.
-  Result<Skeleton> finish(double buildSeconds, const std::function<void(std::size_t done,
-                                                                         std::size_t total)>&
-                                                   progress = {});
+  Result<Skeleton> finish(
+      double buildSeconds,
+      const std::function<void(std::size_t done, std::size_t total)>& progress = {});
   const Skeleton& skeleton() const { return skeleton_; }
   std::uint64_t inputTriangles() const { return inputTriangles_; }
 
