@@ -21,6 +21,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <optional>
 
 #include "hlod/JsonDepth.h"
 #include "hlod/import/Import.h"
@@ -50,15 +51,17 @@ const char* glbJson(const std::string& bytes, std::size_t& size) {
 // JoinPath(baseDir, uri), then as "./uri" in the current directory: only the first is answered,
 // and only when insideFolder accepts the URI. Refusals are kept to be reported by name.
 struct ConfinedFiles {
-  std::filesystem::path folder;  // the model's folder, as the user named it
-  std::string baseDir;           // its canonical form, given to tinygltf (no '/' at the end)
+  std::filesystem::path folder;  // the folder files may come from, as the user named it
+  std::string
+      baseDir;  // where URIs are relative to, canonical, given to tinygltf (no '/' at the end)
+  std::string below;  // baseDir relative to folder, '/'-terminated ("" when they are one)
   std::vector<std::string> refused;
 
   // The file a path from tinygltf names, or empty when it is not to be touched.
   std::filesystem::path resolve(const std::string& joined) {
     const std::string prefix = baseDir + "/";
     if (joined.compare(0, prefix.size(), prefix) != 0) return {};  // the current-directory try
-    const std::string reference = joined.substr(prefix.size());
+    const std::string reference = below + joined.substr(prefix.size());
     auto inside = insideFolder(folder, reference);
     if (inside) return *inside;
     if (std::find(refused.begin(), refused.end(), inside.message()) == refused.end())
@@ -138,8 +141,10 @@ struct AccessorView {
 
 class GltfWalker {
  public:
-  GltfWalker(const std::filesystem::path& path, const tinygltf::Model& gltf)
+  GltfWalker(const std::filesystem::path& path, const tinygltf::Model& gltf,
+             bool oneSidedFromMaterial)
       : path_(path),
+        oneSidedFromMaterial_(oneSidedFromMaterial),
         gltf_(gltf),
         images_(gltf.images.size()),
         imageDone_(gltf.images.size()),
@@ -381,15 +386,20 @@ class GltfWalker {
         for (std::size_t i = 0; i < n; ++i) {
           glm::dvec3 v = normalMatrix * glm::dvec3(nrm->component(i, 0), nrm->component(i, 1),
                                                    nrm->component(i, 2));
+          // Unit normals stay as written: dividing by a length within rounding of 1 would
+          // change their last bits (a tileset read back would no longer be the store it was).
           const double len = glm::length(v);
-          mesh.normals[i] = glm::vec3(len > 0.0 ? v / len : v);
+          mesh.normals[i] = glm::vec3(len > 0.0 && std::abs(len - 1.0) > 1e-6 ? v / len : v);
         }
       }
       // Material: base colour factor and texture (with the texture's own coordinate set).
       int texCoordSet = 0;
+      mesh.oneSided = oneSidedFromMaterial_;  // glTF's default material is single-sided
       if (prim.material >= 0 && prim.material < static_cast<int>(gltf_.materials.size())) {
-        const auto& pbr =
-            gltf_.materials[static_cast<std::size_t>(prim.material)].pbrMetallicRoughness;
+        const tinygltf::Material& material =
+            gltf_.materials[static_cast<std::size_t>(prim.material)];
+        const auto& pbr = material.pbrMetallicRoughness;
+        mesh.oneSided = oneSidedFromMaterial_ && !material.doubleSided;
         if (pbr.baseColorFactor.size() == 4)
           mesh.baseColor = glm::vec4(glm::dvec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
                                                 pbr.baseColorFactor[2], pbr.baseColorFactor[3]));
@@ -457,6 +467,7 @@ class GltfWalker {
   }
 
   const std::filesystem::path& path_;
+  const bool oneSidedFromMaterial_;
   const tinygltf::Model& gltf_;
   std::vector<std::shared_ptr<const Image>> images_;
   std::vector<bool> imageDone_;
@@ -469,34 +480,58 @@ class GltfWalker {
 
 }  // namespace
 
-Result<Model> readGltf(const std::filesystem::path& path, bool binary) {
-  auto bytes = readWholeFile(path);
-  if (!bytes) return bytes.error();
-  if (bytes->empty()) return fileError(path, "file is empty");
-  if (bytes->size() > 0xffffffffu) return fileError(path, "file larger than 4 GB");
-  std::size_t jsonSize = bytes->size();
-  const char* json = binary ? glbJson(*bytes, jsonSize) : bytes->data();
+namespace {
+
+// CESIUM_RTC (a 3D Tiles 1.0 extension): positions are relative to this centre.
+std::optional<glm::dvec3> cesiumRtcCenter(const tinygltf::Model& gltf) {
+  const auto it = gltf.extensions.find("CESIUM_RTC");
+  if (it == gltf.extensions.end() || !it->second.IsObject()) return std::nullopt;
+  const tinygltf::Value& centre = it->second.Get("center");
+  if (!centre.IsArray() || centre.ArrayLen() != 3) return std::nullopt;
+  glm::dvec3 c(0.0);
+  for (int k = 0; k < 3; ++k) {
+    const tinygltf::Value& v = centre.Get(k);
+    if (!v.IsNumber()) return std::nullopt;
+    c[k] = v.GetNumberAsDouble();
+  }
+  return c;
+}
+
+// Parses glTF text or GLB bytes and walks its scene. `path` names it in messages; files it refers
+// to are looked up relative to baseDir and read only from inside `folder`.
+Result<GltfScene> readGltfFrom(const std::filesystem::path& path, std::string bytes, bool binary,
+                               const std::filesystem::path& folder,
+                               const std::filesystem::path& baseDir, bool oneSidedFromMaterial) {
+  if (bytes.empty()) return fileError(path, "file is empty");
+  if (bytes.size() > 0xffffffffu) return fileError(path, "file larger than 4 GB");
+  std::size_t jsonSize = bytes.size();
+  const char* json = binary ? glbJson(bytes, jsonSize) : bytes.data();
   if (json && jsonDepth(json, jsonSize, kMaxGltfJsonDepth) > kMaxGltfJsonDepth)
     return fileError(path,
                      "JSON nested deeper than " + std::to_string(kMaxGltfJsonDepth) + " levels");
 
   ConfinedFiles files;
-  files.folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  files.folder = folder.empty() ? std::filesystem::path(".") : folder;
   std::error_code ec;
-  files.baseDir = std::filesystem::canonical(files.folder, ec).string();
+  files.baseDir =
+      std::filesystem::canonical(baseDir.empty() ? std::filesystem::path(".") : baseDir, ec)
+          .string();
   if (ec) return fileError(path, "cannot resolve the file's folder");
+  const std::filesystem::path top = std::filesystem::canonical(files.folder, ec);
+  if (ec) return fileError(path, "cannot resolve the model's folder");
   if (files.baseDir.size() > 1 && files.baseDir.back() == '/') files.baseDir.pop_back();
+  const std::filesystem::path below = std::filesystem::path(files.baseDir).lexically_relative(top);
+  if (!below.empty() && below != ".") files.below = below.generic_string() + "/";
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&ConfinedFiles::exists, &ConfinedFiles::expand, &ConfinedFiles::read,
                          &ConfinedFiles::write, &files});
   tinygltf::Model gltf;
   std::string err, warning;
-  const auto* data = reinterpret_cast<const unsigned char*>(bytes->data());
-  const auto size = static_cast<unsigned int>(bytes->size());
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  const auto size = static_cast<unsigned int>(bytes.size());
   const bool ok =
-      binary
-          ? loader.LoadBinaryFromMemory(&gltf, &err, &warning, data, size, files.baseDir)
-          : loader.LoadASCIIFromString(&gltf, &err, &warning, bytes->data(), size, files.baseDir);
+      binary ? loader.LoadBinaryFromMemory(&gltf, &err, &warning, data, size, files.baseDir)
+             : loader.LoadASCIIFromString(&gltf, &err, &warning, bytes.data(), size, files.baseDir);
   bytes = std::string();  // tinygltf holds its own copies now
   auto trim = [](std::string s) {
     while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
@@ -511,7 +546,26 @@ Result<Model> readGltf(const std::filesystem::path& path, bool binary) {
                                                                  : trim(err)));
   for (const auto& refused : files.refused) warn(path, refused + "; not read");
   if (!warning.empty()) warn(path, trim(warning));
-  return GltfWalker(path, gltf).run();
+  auto model = GltfWalker(path, gltf, oneSidedFromMaterial).run();
+  if (!model) return model.error();
+  return GltfScene{std::move(*model), cesiumRtcCenter(gltf)};
+}
+
+}  // namespace
+
+Result<Model> readGltf(const std::filesystem::path& path, bool binary) {
+  auto bytes = readWholeFile(path);
+  if (!bytes) return bytes.error();
+  const std::filesystem::path folder =
+      path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  auto scene = readGltfFrom(path, std::move(*bytes), binary, folder, folder, false);
+  if (!scene) return scene.error();
+  return std::move(scene->model);
+}
+
+Result<GltfScene> readGltfBytes(const GltfBytes& in) {
+  return readGltfFrom(in.name, std::string(in.bytes), in.binary, in.folder, in.baseDir,
+                      in.oneSidedFromMaterial);
 }
 
 }  // namespace hlod::import

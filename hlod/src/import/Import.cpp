@@ -41,6 +41,15 @@ namespace {
 // Model): per thread, so that imports on the server's threads never mix their warnings.
 thread_local std::vector<std::string>* t_warnings = nullptr;
 
+// Collects this thread's import warnings into `w` while it lives.
+struct WarningsInto {
+  explicit WarningsInto(std::vector<std::string>* w) : outer(t_warnings) { t_warnings = w; }
+  ~WarningsInto() { t_warnings = outer; }
+  WarningsInto(const WarningsInto&) = delete;
+  WarningsInto& operator=(const WarningsInto&) = delete;
+  std::vector<std::string>* outer;
+};
+
 }  // namespace
 
 void warn(const std::filesystem::path& path, const std::string& what) {
@@ -162,6 +171,30 @@ bool isMeshFile(const std::filesystem::path& path) {
          ext == ".glb" || ext == ".cityjson";
 }
 
+Result<GltfScene> importGltfBytes(const GltfBytes& in) {
+  using namespace import;
+  std::vector<std::string> warnings;
+  Result<GltfScene> scene = makeError("");
+  {
+    const WarningsInto collect(&warnings);
+    try {
+      scene = readGltfBytes(in);
+    } catch (const std::bad_alloc&) {
+      return fileError(in.name, "out of memory while reading");
+    } catch (const std::exception& e) {
+      return fileError(in.name, std::string("read failed: ") + e.what());
+    }
+  }
+  if (!scene) return scene;
+  scene->model.warnings = std::move(warnings);
+  if (scene->model.meshes.empty()) return scene;
+  if (auto s = validate(in.name, scene->model); !s.ok()) {
+    if (scene->model.meshes.empty()) return scene;  // no triangles: an empty content
+    return s.error();
+  }
+  return scene;
+}
+
 Result<Model> importModel(const std::filesystem::path& path, const ImportOptions& options) {
   using namespace import;
   const std::string ext = lowerExtension(path);
@@ -174,11 +207,7 @@ Result<Model> importModel(const std::filesystem::path& path, const ImportOptions
                                ".gltf, .glb, .city.json or .cityjson)");
   Result<Model> model = makeError("");
   std::vector<std::string> warnings;
-  struct Collect {
-    explicit Collect(std::vector<std::string>* w) : outer(t_warnings) { t_warnings = w; }
-    ~Collect() { t_warnings = outer; }
-    std::vector<std::string>* outer;
-  } collect(&warnings);
+  const WarningsInto collect(&warnings);
   try {
     if (ext == ".gltf" || ext == ".glb") {
       std::error_code ec;

@@ -5,6 +5,8 @@
 // problem (truncated, bad index, NaN coordinate, empty, unknown format); never a crash.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
+#include <string_view>
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
@@ -41,6 +43,25 @@ bool isMeshFile(const std::filesystem::path& path);
 
 // Loads a mesh file into a Model (one Mesh per material/primitive group).
 Result<Model> importModel(const std::filesystem::path& path, const ImportOptions& options = {});
+
+// glTF 2.0 held in memory: a 3D Tiles content (a .glb, or the glTF inside a b3dm).
+struct GltfBytes {
+  std::filesystem::path name;  // for messages, as a file's path would be
+  std::string_view bytes;
+  bool binary = true;  // GLB, else glTF JSON
+  // External buffers and images are looked up relative to baseDir and read only when they lie
+  // inside `folder` (a tileset's folder).
+  std::filesystem::path folder, baseDir;
+  // Mesh::oneSided from the material's doubleSided flag (3D Tiles viewers cull the back faces
+  // of single-sided materials, as glTF says); importModel draws every glTF mesh two-sided.
+  bool oneSidedFromMaterial = false;
+};
+struct GltfScene {
+  Model model;                          // may hold no mesh (points, lines, or nothing)
+  std::optional<glm::dvec3> rtcCenter;  // the CESIUM_RTC extension's centre, when present
+};
+// Reads and checks as importModel does, except that a scene without triangles is not an error.
+Result<GltfScene> importGltfBytes(const GltfBytes& in);
 
 // Loads an image file (PNG, JPEG, ...) into RGBA8.
 Result<Image> loadImage(const std::filesystem::path& path);
