@@ -305,10 +305,19 @@ Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
   const auto t0 = std::chrono::steady_clock::now();
   auto manifest = readCity(cityDir);
   if (!manifest) return manifest.error();
+  // The city's frame is the east-north-up frame at its origin: kept, so that the store can be
+  // placed on the globe again (a 3D Tiles export's root transform).
+  ModelCrs crs;
+  crs.toEnu = true;
+  crs.originLat = manifest->origin.lat;
+  crs.originLon = manifest->origin.lon;
+  crs.originHeight = manifest->origin.height;
+  crs.description = "city folder: east-north-up metres at its origin";
   std::vector<CitySource> cities(1);
   cities[0].manifest = std::move(*manifest);
   return buildBlocks(
-      cities, {}, [](HlodBuilder&) {}, dir, options, progress, t0);
+      cities, {}, [&](HlodBuilder& b) { b.setModelFrame(UpAxis::Z, crs); }, dir, options, progress,
+      t0);
 }
 
 Result<Skeleton> buildStoreFromInputs(std::vector<BuildInput> inputs,
