@@ -20,6 +20,8 @@ const std::vector<Command>& commands() {
        cmd::runRender},
       {"build", "build an HLOD node store from a mesh, glTF scene or city folder", cmd::kBuildUsage,
        cmd::runBuild},
+      {"export-3dtiles", "write a node store as an OGC 3D Tiles 1.1 tileset (glTF per node)",
+       cmd::kExport3dTilesUsage, cmd::runExport3dTiles},
       {"info", "show the levels, sizes and build parameters of a node store", cmd::kInfoUsage,
        cmd::runInfo},
       {"calibrate", "measure c_tex (textured vs flat triangle cost) on this GL",
@@ -39,7 +41,7 @@ const std::vector<Command>& commands() {
 static void printHelp() {
   std::printf("hlodr %s: headless HLOD rendering of huge models\n\nusage: hlodr COMMAND [ARGS]\n\n",
               HLODR_VERSION);
-  for (const auto& c : commands()) std::printf("  %-11s %s\n", c.name, c.summary);
+  for (const auto& c : commands()) std::printf("  %-14s %s\n", c.name, c.summary);
   std::printf("\n`hlodr help COMMAND` or `hlodr COMMAND --help` shows a command's options.\n");
 }
 

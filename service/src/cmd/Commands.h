@@ -29,6 +29,9 @@ int runRender(const Argv& args);
 extern const char* const kBuildUsage;
 int runBuild(const Argv& args);
 
+extern const char* const kExport3dTilesUsage;
+int runExport3dTiles(const Argv& args);
+
 extern const char* const kInfoUsage;
 int runInfo(const Argv& args);
 
