@@ -14,6 +14,7 @@
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/City.h"
 #include "hlod/import/Import.h"
+#include "hlod/tiles/TilesetImport.h"
 #include "service/Args.h"
 #include "service/Progress.h"
 
@@ -28,7 +29,9 @@ const char* const kBuildUsage =
     "\n"
     "Builds the HLOD node store (Lakhia et al. III-A/B) that `hlodr render` streams from disk.\n"
     "INPUT is a city folder (with city.json; blocks are loaded one at a time), a CityJSON file\n"
-    "or mesh files (OBJ, PLY, OFF, STL, glTF/GLB).\n"
+    "or mesh files (OBJ, PLY, OFF, STL, glTF/GLB), or an OGC 3D Tiles tileset.json (1.0 or 1.1:\n"
+    "its own hierarchy and geometric errors are kept, nothing is simplified again; see\n"
+    "docs/3dtiles.md; --up and --c-tex apply, the simplification options do not).\n"
     "Blocks: a city folder's blocks are its own. A CityJSON model's buildings are grouped into\n"
     "blocks by a square grid of --block-size metres over its x/y coordinates (cells at whole\n"
     "multiples of it): each building whole in the cell its footprint centre (the centre of its\n"
@@ -92,6 +95,41 @@ std::string formatSeconds(double s) {
   else
     std::snprintf(buf, sizeof buf, "%.0fs", s);
   return buf;
+}
+
+// `hlodr build TILESET.json`: the tileset's tree as the store's (hlod/tiles/TilesetImport.h).
+int buildTileset(const std::string& in, const std::string& out, const hlod::BuildOptions& build,
+                 bool quiet) {
+  hlod::tiles::TilesetImportOptions options;
+  options.cTex = build.cTex;
+  options.up = build.up;
+  ProgressLine lines("build", quiet);
+  lines.update(0.0, "reading " + in);
+  auto report = hlod::tiles::buildStoreFromTileset(
+      in, out, options, [&](const hlod::tiles::TilesetImportProgress& p) {
+        lines.update(double(p.tilesDone) / double(std::max<std::size_t>(1, p.tileCount)),
+                     std::to_string(p.tilesDone) + "/" + std::to_string(p.tileCount) + " tiles");
+      });
+  lines.done();
+  if (!report) return commandError("build", report.message());
+  // Warnings show also with --quiet; a tileset can repeat one per tile, so the first few.
+  for (std::size_t i = 0; i < report->warnings.size() && i < 8; ++i)
+    std::fprintf(stderr, "warning: %s\n", report->warnings[i].c_str());
+  if (report->warnings.size() > 8)
+    std::fprintf(stderr, "warning: ... and %zu more\n", report->warnings.size() - 8);
+  if (!quiet) {
+    std::uint32_t depth = 0;
+    for (const auto& n : report->skeleton.nodes) depth = std::max(depth, n.level + 1);
+    std::printf(
+        "wrote %s: %zu nodes from %zu tiles (%zu content files, %zu without content, %zu refined "
+        "by ADD), depth %u, %zu roots, %.2f M triangles, %s up%s\n",
+        out.c_str(), report->nodes, report->tiles, report->contents, report->emptyTiles,
+        report->addTiles, depth, report->skeleton.roots.size(), double(report->triangles) / 1e6,
+        hlod::upAxisName(report->skeleton.up),
+        report->hlodrExport ? " (an hlodr export, read back as its store)" : "");
+    std::printf("frame: %s\n", report->frame.c_str());
+  }
+  return 0;
 }
 
 }  // namespace
@@ -204,6 +242,13 @@ int runBuild(const Argv& argv) {
   };
 
   const auto& inputs = args->positionals();
+  // A 3D Tiles tileset keeps its own hierarchy: nothing is simplified again.
+  for (const auto& in : inputs)
+    if (hlod::tiles::isTilesetFile(in)) {
+      if (inputs.size() > 1)
+        return usageError("build", in + " is a 3D Tiles tileset: build it on its own");
+      return buildTileset(in, *out, options, quiet);
+    }
   std::vector<hlod::BuildInput> sources;
   for (const auto& in : inputs) {
     hlod::BuildInput source;
