@@ -382,3 +382,112 @@ for name in sorted(os.listdir(scenes)) if os.path.isdir(scenes) else []:
     if name.endswith(".json"):
         with open(os.path.join(scenes, name), "rb") as f:
             put("scene_file", "scenes-" + name, f.read())
+
+# --- 3D Tiles: tileset.json, then files of its folder after "@@FILE name@@" lines ---
+def glb_triangle(offset=(0.0, 0.0, 0.0), rtc=None, double_sided=False):
+    """A binary glTF of one triangle (y up), with normals, in the 2.0 layout."""
+    pos = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 0, -1)
+    nrm = struct.pack("<9f", 0, 1, 0, 0, 1, 0, 0, 1, 0)
+    idx = struct.pack("<3H", 0, 1, 2) + b"\0\0"
+    binary = pos + nrm + idx
+    gltf = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+            "nodes": [{"mesh": 0, "translation": list(offset)}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2,
+                                        "material": 0}]}],
+            "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.6, 0.7, 1]},
+                           "doubleSided": double_sided}],
+            "buffers": [{"byteLength": len(binary)}],
+            "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                            {"buffer": 0, "byteOffset": 36, "byteLength": 36},
+                            {"buffer": 0, "byteOffset": 72, "byteLength": 6}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                           "min": [0, 0, -1], "max": [1, 0, 0]},
+                          {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"},
+                          {"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}]}
+    if rtc:
+        gltf["extensionsUsed"] = ["CESIUM_RTC"]
+        gltf["extensions"] = {"CESIUM_RTC": {"center": list(rtc)}}
+    text = json.dumps(gltf).encode()
+    text += b" " * (-len(text) % 4)
+    total = 12 + 8 + len(text) + 8 + len(binary)
+    return (struct.pack("<4sII", b"glTF", 2, total) + struct.pack("<I4s", len(text), b"JSON") + text
+            + struct.pack("<I4s", len(binary), b"BIN\0") + binary)
+
+
+def b3dm_of(glb, feature_table, batch_table=None):
+    ft = json.dumps(feature_table).encode()
+    ft += b" " * (-(28 + len(ft)) % 8)
+    bt = json.dumps(batch_table).encode() if batch_table else b""
+    bt += b" " * (-len(bt) % 8)
+    return struct.pack("<4s6I", b"b3dm", 1, 28 + len(ft) + len(bt) + len(glb), len(ft), 0,
+                       len(bt), 0) + ft + bt + glb
+
+
+def tile(uri, error, children=None, **extra):
+    t = {"boundingVolume": {"box": [0, 0, 0, 10, 0, 0, 0, 10, 0, 0, 0, 10]}, "geometricError": error}
+    if uri:
+        t["content"] = {"uri": uri}
+    if children:
+        t["children"] = children
+    t.update(extra)
+    return t
+
+
+def tileset_of(root, version="1.1", **extra):
+    root.setdefault("refine", "REPLACE")
+    t = {"asset": {"version": version}, "geometricError": 100, "root": root}
+    t.update(extra)
+    return json.dumps(t).encode()
+
+
+def files(main, **others):
+    out = main
+    for name, data in others.items():
+        out += b"\n@@FILE " + name.encode() + b"@@\n" + (data if isinstance(data, bytes) else data.encode())
+    return out
+
+
+put("tileset", "glb-tree.txt", files(
+    tileset_of(tile("a.glb", 4, [tile("b.glb", 0), tile("c.glb", 0)])),
+    **{"a.glb": glb_triangle(), "b.glb": glb_triangle((1, 0, 0)), "c.glb": glb_triangle((0, 0, 1))}))
+put("tileset", "b3dm-rtc-batch.txt", files(
+    tileset_of(tile("a.b3dm", 2, [tile("b.b3dm", 0)]), "1.0", extras={"gltfUpAxis": "Y"}),
+    **{"a.b3dm": b3dm_of(glb_triangle(), {"BATCH_LENGTH": 1, "RTC_CENTER": [10, 20, 30]},
+                         {"name": ["one"]}),
+       "b.b3dm": b3dm_of(glb_triangle(rtc=(1, 2, 3), double_sided=True), {"BATCH_LENGTH": 0})}))
+put("tileset", "external-and-add.txt", files(
+    tileset_of(tile("a.glb", 4, [tile("inner.json", 2)], refine="ADD",
+                    transform=[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 5, 5, 5, 1])),
+    **{"a.glb": glb_triangle(), "inner.json": tileset_of(tile("b.glb", 0)).decode(),
+       "b.glb": glb_triangle((2, 0, 0))}))
+put("tileset", "empty-root-contents.txt", files(
+    tileset_of(tile("", 8, [tile("", 4, [tile("a.glb", 0)]),
+                            {"boundingVolume": {"sphere": [0, 0, 0, 5]}, "geometricError": 0,
+                             "contents": [{"uri": "a.glb"}, {"uri": "b.glb"}]}])),
+    **{"a.glb": glb_triangle(), "b.glb": glb_triangle((0, 1, 0))}))
+# An earth-centred tileset: a region volume and ECEF-sized RTC.
+put("tileset", "region-ecef.txt", files(
+    tileset_of({"boundingVolume": {"region": [0.14, 0.82, 0.15, 0.83, 0, 100]}, "geometricError": 0,
+                "content": {"uri": "a.b3dm"}}),
+    **{"a.b3dm": b3dm_of(glb_triangle(), {"BATCH_LENGTH": 0,
+                                          "RTC_CENTER": [4302984.0, 636924.0, 4643160.0]})}))
+# Implicit quadtree: a binary subtree (root and children 0 and 3), then a child subtree.
+sub_json = json.dumps({"buffers": [{"byteLength": 8}],
+                       "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 1},
+                                       {"buffer": 0, "byteOffset": 1, "byteLength": 2}],
+                       "tileAvailability": {"bitstream": 0},
+                       "contentAvailability": [{"bitstream": 0}],
+                       "childSubtreeAvailability": {"bitstream": 1}}).encode()
+sub_json += b" " * (-len(sub_json) % 8)
+sub_bin = bytes([0b10011, 1, 0, 0, 0, 0, 0, 0])  # child subtree 0: below tile 1/0/0
+subtree = struct.pack("<4sIQQ", b"subt", 1, len(sub_json), len(sub_bin)) + sub_json + sub_bin
+leaf = json.dumps({"tileAvailability": {"constant": 1}, "contentAvailability": [{"constant": 1}],
+                   "childSubtreeAvailability": {"constant": 0}})
+put("tileset", "implicit-quadtree.txt", files(
+    tileset_of(tile("c-{level}-{x}-{y}.glb", 16,
+                    implicitTiling={"subdivisionScheme": "QUADTREE", "subtreeLevels": 2,
+                                    "availableLevels": 4, "subtrees": {"uri": "s-{level}-{x}-{y}.subtree"}})),
+    **{"s-0-0-0.subtree": subtree, "s-2-0-0.subtree": leaf, "c-0-0-0.glb": glb_triangle(),
+       "c-1-0-0.glb": glb_triangle(), "c-1-1-1.glb": glb_triangle(), "c-2-0-0.glb": glb_triangle(),
+       "c-3-0-0.glb": glb_triangle(), "c-3-1-0.glb": glb_triangle(), "c-3-0-1.glb": glb_triangle(),
+       "c-3-1-1.glb": glb_triangle()}))
