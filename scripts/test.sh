@@ -13,8 +13,11 @@ scripts/build.sh
 # installed from there when missing, with no network at all.
 if command -v npm >/dev/null; then
   (cd tests/web && { npm ls --offline >/dev/null 2>&1 || npm ci --offline --no-audit --no-fund; })
+  # The 3D Tiles viewers' test (tests/tiles/): glTF-Validator, 3DTilesRendererJS, three.js and
+  # CesiumJS from the npm registry, pinned by its lock file.
+  (cd tests/tiles && { npm ls >/dev/null 2>&1 || npm ci --no-audit --no-fund; })
 else
-  echo "test: no npm, the browser test (web.page) will be skipped"
+  echo "test: no npm, the browser tests (web.page, tiles.viewers) will be skipped"
 fi
 # Software GL here: tests that render use Mesa's llvmpipe through EGL surfaceless or OSMesa.
 ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 600
@@ -22,8 +25,8 @@ ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 600
 
 echo "test: the sanitizer build (clang, ASan + UBSan) and its suite"
 scripts/build.sh --sanitize
-# The browser test is left out here: it drives the page in Chromium, and the gcc suite runs it.
+# The browser tests are left out here: they drive Chromium, and the gcc suite runs them.
 (. scripts/sanitize-env.sh &&
-  ctest --test-dir build-asan --output-on-failure -j"$(nproc)" --timeout 900 -LE web)
+  ctest --test-dir build-asan --output-on-failure -j"$(nproc)" --timeout 900 -LE 'web|tiles')
 echo "test: fuzz smoke, 20 s per target"
 scripts/fuzz.sh 20
