@@ -275,6 +275,28 @@ TEST_F(TilesetExport, ReadBackOnTheGlobeItIsTheStoreItCameFrom) {
   expectSameStore(*store_, **back);
 }
 
+TEST(TilesetExportMars, AYUpStoreFromATilesetExportsValidAndReadsBackTheSame) {
+  const fs::path mars = fs::path(HLODR_SHARED_DATA) / "mars-tileset/tileset.json";
+  if (!fs::exists(mars)) GTEST_SKIP() << "shared data not found: " << mars;
+  TempDir dir;
+  auto in = buildStoreFromTileset(mars, dir.file("mars.hlod"));
+  ASSERT_TRUE(in) << in.message();
+  ASSERT_EQ(in->skeleton.up, UpAxis::Y);
+  auto store = NodeStore::open(dir.file("mars.hlod"));
+  ASSERT_TRUE(store) << store.message();
+  auto out = exportTileset(**store, dir.file("tiles"));
+  ASSERT_TRUE(out) << out.message();
+  EXPECT_FALSE(out->geoReferenced);
+  tilesetcheck::Checker checker(positionsIn(dir.file("tiles")));
+  for (const auto& v : checker.check(readJson(dir.file("tiles/tileset.json"))))
+    ADD_FAILURE() << v.rule << " at " << v.where;
+  auto back = buildStoreFromTileset(dir.file("tiles/tileset.json"), dir.file("back.hlod"));
+  ASSERT_TRUE(back) << back.message();
+  auto again = NodeStore::open(dir.file("back.hlod"));
+  ASSERT_TRUE(again) << again.message();
+  expectSameStore(**store, **again);
+}
+
 TEST_F(TilesetExport, AFolderThatIsNoExportIsNeverReplaced) {
   build(false);
   dir.write("mine/notes.txt", "");

@@ -9,7 +9,7 @@ namespace {
 
 using nlohmann::json;
 
-json valid() {
+json validTileset() {
   return json::parse(R"({
     "asset": {"version": "1.1"},
     "geometricError": 100,
@@ -23,165 +23,165 @@ json valid() {
 }
 
 // The rules `t` breaks (no content reader: the box rule has its own test).
-std::vector<std::string> rules(const json& t) {
+std::vector<std::string> brokenRules(const json& t) {
   std::vector<std::string> out;
   for (const auto& v : tilesetcheck::Checker().check(t)) out.push_back(v.rule);
   return out;
 }
 
-std::vector<std::string> one(const std::string& rule) {
+std::vector<std::string> onlyRule(const std::string& rule) {
   return {rule};
 }
 
 TEST(TilesetSchema, TheValidTilesetBreaksNoRule) {
-  EXPECT_TRUE(rules(valid()).empty());
+  EXPECT_TRUE(brokenRules(validTileset()).empty());
 }
 
 TEST(TilesetSchema, TilesetRequiresAsset) {
-  json t = valid();
+  json t = validTileset();
   t.erase("asset");
-  EXPECT_EQ(rules(t), one("tileset.required.asset"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tileset.required.asset"));
 }
 
 TEST(TilesetSchema, TilesetRequiresGeometricError) {
-  json t = valid();
+  json t = validTileset();
   t.erase("geometricError");
-  EXPECT_EQ(rules(t), one("tileset.required.geometricError"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tileset.required.geometricError"));
 }
 
 TEST(TilesetSchema, TilesetRequiresRoot) {
-  json t = valid();
+  json t = validTileset();
   t.erase("root");
-  EXPECT_EQ(rules(t), one("tileset.required.root"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tileset.required.root"));
 }
 
 TEST(TilesetSchema, TilesetGeometricErrorIsANumber) {
-  json t = valid();
+  json t = validTileset();
   t["geometricError"] = "100";
-  EXPECT_EQ(rules(t), one("tileset.geometricError.type"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tileset.geometricError.type"));
 }
 
 TEST(TilesetSchema, TilesetGeometricErrorIsNotNegative) {
-  json t = valid();
+  json t = validTileset();
   t["geometricError"] = -1;
-  EXPECT_EQ(rules(t), one("tileset.geometricError.minimum"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tileset.geometricError.minimum"));
 }
 
 TEST(TilesetSchema, AssetRequiresVersion) {
-  json t = valid();
+  json t = validTileset();
   t["asset"].erase("version");
-  EXPECT_EQ(rules(t), one("asset.required.version"));
+  EXPECT_EQ(brokenRules(t), onlyRule("asset.required.version"));
 }
 
 TEST(TilesetSchema, AssetVersionIsAString) {
-  json t = valid();
+  json t = validTileset();
   t["asset"]["version"] = 1.1;
-  EXPECT_EQ(rules(t), one("asset.version.type"));
+  EXPECT_EQ(brokenRules(t), onlyRule("asset.version.type"));
 }
 
 TEST(TilesetSchema, ExtensionsUsedAreUniqueStrings) {
-  json t = valid();
+  json t = validTileset();
   t["extensionsUsed"] = {"A", "A"};
-  EXPECT_EQ(rules(t), one("tileset.extensionsUsed.uniqueItems"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tileset.extensionsUsed.uniqueItems"));
   t["extensionsUsed"] = json::array();
-  EXPECT_EQ(rules(t), one("tileset.extensionsUsed.minItems"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tileset.extensionsUsed.minItems"));
 }
 
 TEST(TilesetSchema, TileRequiresBoundingVolume) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["children"][0].erase("boundingVolume");
-  EXPECT_EQ(rules(t), one("tile.required.boundingVolume"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tile.required.boundingVolume"));
 }
 
 TEST(TilesetSchema, TileRequiresGeometricError) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["children"][0].erase("geometricError");
-  EXPECT_EQ(rules(t), one("tile.required.geometricError"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tile.required.geometricError"));
 }
 
 TEST(TilesetSchema, TileGeometricErrorIsNotNegative) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["geometricError"] = -0.5;
-  EXPECT_EQ(rules(t), one("tile.geometricError.minimum"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tile.geometricError.minimum"));
 }
 
 TEST(TilesetSchema, TileGeometricErrorIsANumber) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["geometricError"] = json::array();
-  EXPECT_EQ(rules(t), one("tile.geometricError.type"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tile.geometricError.type"));
 }
 
 TEST(TilesetSchema, RefineIsAddOrReplace) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["refine"] = "replace-please";
-  EXPECT_EQ(rules(t), one("tile.refine.enum"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tile.refine.enum"));
 }
 
 TEST(TilesetSchema, RefineIsRequiredAtTheRoot) {
-  json t = valid();
+  json t = validTileset();
   t["root"].erase("refine");
-  EXPECT_EQ(rules(t), one("tile.refine.requiredAtRoot"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tile.refine.requiredAtRoot"));
 }
 
 TEST(TilesetSchema, TransformHasSixteenNumbers) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["transform"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
-  EXPECT_EQ(rules(t), one("tile.transform.items"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tile.transform.items"));
 }
 
 TEST(TilesetSchema, BoxHasTwelveNumbers) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["boundingVolume"]["box"] = {0, 0, 0, 1, 1, 1};
-  EXPECT_EQ(rules(t), one("boundingVolume.box.items"));
+  EXPECT_EQ(brokenRules(t), onlyRule("boundingVolume.box.items"));
 }
 
 TEST(TilesetSchema, RegionHasSixNumbers) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["boundingVolume"] = {{"region", {0, 0, 1, 1, 0}}};
-  EXPECT_EQ(rules(t), one("boundingVolume.region.items"));
+  EXPECT_EQ(brokenRules(t), onlyRule("boundingVolume.region.items"));
 }
 
 TEST(TilesetSchema, SphereHasFourNumbers) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["children"][0]["boundingVolume"]["sphere"] = {0, 0, "0", 5};
-  EXPECT_EQ(rules(t), one("boundingVolume.sphere.items"));
+  EXPECT_EQ(brokenRules(t), onlyRule("boundingVolume.sphere.items"));
 }
 
 TEST(TilesetSchema, BoundingVolumeHasAProperty) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["boundingVolume"] = json::object();
-  EXPECT_EQ(rules(t), one("boundingVolume.minProperties"));
+  EXPECT_EQ(brokenRules(t), onlyRule("boundingVolume.minProperties"));
 }
 
 TEST(TilesetSchema, ContentRequiresUri) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["content"] = {{"boundingVolume", {{"sphere", {0, 0, 0, 1}}}}};
-  EXPECT_EQ(rules(t), one("content.required.uri"));
+  EXPECT_EQ(brokenRules(t), onlyRule("content.required.uri"));
 }
 
 TEST(TilesetSchema, ContentUriIsAString) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["content"]["uri"] = 7;
-  EXPECT_EQ(rules(t), one("content.uri.type"));
+  EXPECT_EQ(brokenRules(t), onlyRule("content.uri.type"));
 }
 
 TEST(TilesetSchema, ContentAndContentsAreNotBoth) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["contents"] = {{{"uri", "c.glb"}}};
-  EXPECT_EQ(rules(t), one("tile.contentXorContents"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tile.contentXorContents"));
 }
 
 TEST(TilesetSchema, ContentsHasAtLeastOne) {
-  json t = valid();
+  json t = validTileset();
   t["root"].erase("content");
   t["root"]["contents"] = json::array();
-  EXPECT_EQ(rules(t), one("tile.contents.minItems"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tile.contents.minItems"));
 }
 
 TEST(TilesetSchema, ChildrenHasAtLeastOne) {
-  json t = valid();
+  json t = validTileset();
   t["root"]["children"] = json::array();
-  EXPECT_EQ(rules(t), one("tile.children.minItems"));
+  EXPECT_EQ(brokenRules(t), onlyRule("tile.children.minItems"));
 }
 
 TEST(TilesetSchema, AContentsBoxHoldsEveryVertex) {
@@ -192,10 +192,10 @@ TEST(TilesetSchema, AContentsBoxHoldsEveryVertex) {
     return true;
   });
   std::vector<std::string> broken;
-  for (const auto& v : checker.check(valid())) broken.push_back(v.rule + " " + v.where);
-  EXPECT_EQ(broken, one("content.box.holdsVertices /root/content"));
+  for (const auto& v : checker.check(validTileset())) broken.push_back(v.rule + " " + v.where);
+  EXPECT_EQ(broken, onlyRule("content.box.holdsVertices /root/content"));
   x = 9.5;
-  EXPECT_TRUE(checker.check(valid()).empty());
+  EXPECT_TRUE(checker.check(validTileset()).empty());
 }
 
 }  // namespace

@@ -39,7 +39,7 @@ Status writeFile(const fs::path& path, const void* data, std::size_t size) {
   return Ok{};
 }
 
-nlohmann::json vec3(const glm::dvec3& v) {
+nlohmann::json vec3Json(const glm::dvec3& v) {
   return {v.x, v.y, v.z};
 }
 
@@ -201,9 +201,9 @@ Result<TilesetExportReport> exportTileset(const NodeStore& store, const fs::path
         {"block", info.block},
         {"level", info.level},
         {"cell", info.isCell()},
-        {"centre", vec3(info.centre)},
-        {"boundsMin", vec3(info.bounds.min)},
-        {"boundsMax", vec3(info.bounds.max)},
+        {"centre", vec3Json(info.centre)},
+        {"boundsMin", vec3Json(info.bounds.min)},
+        {"boundsMax", vec3Json(info.bounds.max)},
         {"numTri", info.numTri},
         {"numTexTri", info.numTexTri},
         {"cost", info.cost},

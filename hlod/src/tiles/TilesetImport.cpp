@@ -37,11 +37,11 @@ double determinant(const AxisMap& m) {
 }
 
 // A number from an hlodr export's extras, or `fallback`.
-double number(const nlohmann::json& j, const char* key, double fallback) {
+double numberIn(const nlohmann::json& j, const char* key, double fallback) {
   return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : fallback;
 }
 
-std::optional<glm::dvec3> vec3(const nlohmann::json& j, const char* key) {
+std::optional<glm::dvec3> vec3From(const nlohmann::json& j, const char* key) {
   if (!j.is_object() || !j.contains(key) || !j[key].is_array() || j[key].size() != 3)
     return std::nullopt;
   glm::dvec3 v;
@@ -139,7 +139,7 @@ class Importer {
   void chooseFrame() {
     const TileRecord& root = tree_.tiles.front();
     const nlohmann::json& h = tree_.hlodr;
-    bool own = h.is_object() && number(h, "format", 0) == 1 && h.contains("worldToTile");
+    bool own = h.is_object() && numberIn(h, "format", 0) == 1 && h.contains("worldToTile");
     for (const TileRecord& t : tree_.tiles)
       if (!t.contents.empty() && !(t.hlodr.is_object() && t.hlodr.contains("node"))) own = false;
     if (own) {
@@ -170,10 +170,10 @@ class Importer {
         frame_.up = *up;
         if (h.contains("crs") && h["crs"].is_object()) {
           const nlohmann::json& c = h["crs"];
-          frame_.crs.epsg = int(number(c, "epsg", 0));
+          frame_.crs.epsg = int(numberIn(c, "epsg", 0));
           frame_.crs.description = c.value("description", std::string());
           frame_.crs.toEnu = c.value("toEnu", false);
-          if (auto o = vec3(c, "origin")) {
+          if (auto o = vec3From(c, "origin")) {
             frame_.crs.originLat = o->x;
             frame_.crs.originLon = o->y;
             frame_.crs.originHeight = o->z;
@@ -379,16 +379,16 @@ class Importer {
     if (frame_.own) {
       // What the store had, where the export wrote it (the measures of its double positions).
       const nlohmann::json& h = t.hlodr;
-      if (auto c = vec3(h, "centre")) info.centre = *c;
-      const auto lo = vec3(h, "boundsMin"), hi = vec3(h, "boundsMax");
+      if (auto c = vec3From(h, "centre")) info.centre = *c;
+      const auto lo = vec3From(h, "boundsMin"), hi = vec3From(h, "boundsMax");
       if (lo && hi) {
         info.bounds.min = *lo;
         info.bounds.max = *hi;
       }
-      info.cost = number(h, "cost", info.cost);
-      info.staticBenefit = number(h, "staticBenefit", info.staticBenefit);
-      if (auto n = vec3(h, "avgNormal")) info.avgNormal = glm::vec3(*n);
-      info.geometricError = number(h, "geometricError", info.geometricError);
+      info.cost = numberIn(h, "cost", info.cost);
+      info.staticBenefit = numberIn(h, "staticBenefit", info.staticBenefit);
+      if (auto n = vec3From(h, "avgNormal")) info.avgNormal = glm::vec3(*n);
+      info.geometricError = numberIn(h, "geometricError", info.geometricError);
     }
     LocalMesh local = localAround(mesh, info.centre);
     local.splats = makeSplats(local);
@@ -482,7 +482,7 @@ class Importer {
     std::vector<char> used(n, 0);
     for (std::size_t k = 0; k < n; ++k) {
       const nlohmann::json& h = tree_.tiles[nodes_[k].tile].hlodr;
-      const double v = number(h, "node", -1.0);
+      const double v = numberIn(h, "node", -1.0);
       if (!(v >= 0.0 && v < double(n)) || v != std::floor(v) || used[std::size_t(v)]++)
         return makeError("node numbers are not 0.." + std::to_string(n - 1) + " once each");
       id[k] = std::uint32_t(v);
@@ -499,8 +499,8 @@ class Importer {
       for (std::size_t c = 0; c < childNodes[k].size(); ++c)
         if (id[childNodes[k][c]] != info.firstChild + c)
           return makeError("a node's children are not numbered one after another");
-      info.level = std::uint32_t(number(h, "level", 0.0));
-      info.block = h.value("cell", false) ? kCellBlock : std::uint32_t(number(h, "block", 0.0));
+      info.level = std::uint32_t(numberIn(h, "level", 0.0));
+      info.block = h.value("cell", false) ? kCellBlock : std::uint32_t(numberIn(h, "block", 0.0));
       if (h.contains("anchor") && h["anchor"].is_array() && h["anchor"].size() == 2 &&
           h["anchor"][0].is_number() && h["anchor"][1].is_number())
         anchors[id[k]] = {h["anchor"][0].get<double>(), h["anchor"][1].get<double>()};
@@ -533,9 +533,9 @@ class Importer {
     }
     if (frame_.own && tree_.hlodr.contains("params") && tree_.hlodr["params"].is_object()) {
       const nlohmann::json& p = tree_.hlodr["params"];
-      s.params.levelFactor = std::clamp(number(p, "levelFactor", 4.0), 2.0, 64.0);
-      s.params.desiredTri = std::uint32_t(std::max(1.0, number(p, "desiredTri", 1.0)));
-      s.params.cTex = std::clamp(number(p, "cTex", options_.cTex), 0.0, 1.0);
+      s.params.levelFactor = std::clamp(numberIn(p, "levelFactor", 4.0), 2.0, 64.0);
+      s.params.desiredTri = std::uint32_t(std::max(1.0, numberIn(p, "desiredTri", 1.0)));
+      s.params.cTex = std::clamp(numberIn(p, "cTex", options_.cTex), 0.0, 1.0);
       s.params.simplifier = p.value("simplifier", std::string("3d-tiles"));
     } else {
       // What the tileset's tree looks like in the builder's terms: its mean branching and its
