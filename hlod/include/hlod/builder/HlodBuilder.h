@@ -29,7 +29,7 @@
 
 #include "hlod/builder/CityBlocks.h"
 #include "hlod/builder/Simplifier.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "hlod/store/NodeStore.h"
 
 namespace hlod {
