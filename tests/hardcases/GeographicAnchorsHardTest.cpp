@@ -12,7 +12,7 @@
 #include "HardcaseFolder.h"
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/City.h"
-#include "hlod/import/PlyWriter.h"
+#include "hlod/export/PlyWriter.h"
 
 namespace {
 
