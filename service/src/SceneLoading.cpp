@@ -45,8 +45,7 @@ hlod::Result<LoadedScene> loadScene(const std::filesystem::path& path, bool quie
 }
 
 CameraPose defaultCamera(const hlod::Aabb& bounds, hlod::UpAxis up, double fovY, double aspect) {
-  const hlod::Camera framed =
-      hlod::frameBounds(bounds, up, hlod::defaultViewDirection(up), fovY, aspect);
+  const hlod::Camera framed = hlod::defaultView(bounds, up, fovY, aspect);
   CameraPose cam;
   cam.position = framed.position;
   cam.target = framed.target;

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hlod/runtime/Framing.h"
 #include "hlod/scene/SceneFile.h"
 #include "hlod/store/NodeStore.h"
 #include "renderer/VideoWriter.h"
@@ -93,7 +94,8 @@ hlod::Status Session::init(renderer::GlContext& context) {
   ro.width = options_.width;
   ro.height = options_.height;
   ro.effects = options_.effects;
-  ro.up = hlod::upVector(skel.up);  // sky, hemisphere light and shadow map stand on it
+  // Sky, hemisphere light and shadow map stand on it (an earth-centred store's ellipsoid normal).
+  ro.up = hlod::modelUpFrame(skel).up;
   auto r = renderer::GpuNodeRenderer::create(*context_, skel, ro);
   if (!r) return r.error();
   renderer_ = std::move(*r);

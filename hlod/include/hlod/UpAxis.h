@@ -48,4 +48,20 @@ inline void horizontalAxes(UpAxis up, glm::dvec3& first, glm::dvec3& second) {
   second = upVector(UpAxis((u + 2) % 3));
 }
 
+// The directions a model's cameras stand in: up, and two horizontal axes, (first, second, up)
+// right-handed and orthonormal. An up axis gives one (horizontalAxes); a model lying on the earth
+// in earth-centred coordinates gets its east-north-up frame (hlod/runtime/Framing.h,
+// modelUpFrame).
+struct UpFrame {
+  glm::dvec3 first{1.0, 0.0, 0.0}, second{0.0, 1.0, 0.0}, up{0.0, 0.0, 1.0};
+  bool earthCentred = false;  // east, north and the ellipsoid's normal at the model's centre
+};
+
+inline UpFrame upFrame(UpAxis up) {
+  UpFrame f;
+  horizontalAxes(up, f.first, f.second);
+  f.up = upVector(up);
+  return f;
+}
+
 }  // namespace hlod

@@ -142,9 +142,7 @@ Status FrameDriver::start(double knownVTime) {
   const bool known = knownVTime > 0.0 && std::isfinite(knownVTime);
   // The whole model in view, upright, as its default view shows it.
   const double aspect = static_cast<double>(options_.width) / options_.height;
-  const Camera cam =
-      bounds_.empty() ? Camera{}
-                      : frameBounds(bounds_, skel.up, defaultViewDirection(skel.up), 60.0, aspect);
+  const Camera cam = bounds_.empty() ? Camera{} : defaultView(bounds_, skel.up, 60.0, aspect);
   if (!bounds_.empty()) {
     const std::vector<std::uint32_t> front = nearToFar(skel, cam.position, skel.roots);
     auto timed = timeDraws(cam, front, {});

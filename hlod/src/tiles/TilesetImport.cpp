@@ -13,6 +13,7 @@
 #include "builder/Preprocess.h"
 #include "builder/SlabPartition.h"
 #include "hlod/builder/HlodBuilder.h"
+#include "hlod/geodesy/EarthCentred.h"
 #include "hlod/import/Import.h"
 #include "hlod/parry/Splats.h"
 #include "hlod/store/NodeStore.h"
@@ -28,9 +29,6 @@ namespace {
 
 // Composite tiles hold tiles; they may nest, this deep at most.
 constexpr int kMaxCmptNesting = 4;
-// An earth-centred tileset's root lies about this far from the earth's centre (the ellipsoid's
-// radii are 6,357 and 6,378 km; a few hundred km of height or depth either way).
-constexpr double kEarthCentredMin = 6.0e6, kEarthCentredMax = 7.0e6;
 
 double determinant(const AxisMap& m) {
   return glm::determinant(m.matrix());
@@ -184,8 +182,7 @@ class Importer {
       }
     }
     const glm::dvec3 c = root.volumeCentre;
-    const double r = glm::length(c);
-    if (root.region || (r > kEarthCentredMin && r < kEarthCentredMax)) {
+    if (root.region || isEarthCentred(c)) {
       LatLon origin = ecefToGeodetic(c);
       if (root.region) origin.height = root.regionMinHeight;
       frame_.enu.emplace(origin);

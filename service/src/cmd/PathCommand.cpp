@@ -9,6 +9,7 @@
 #include "cmd/Commands.h"
 #include "cmd/SceneArgs.h"
 #include "hlod/runtime/CameraPath.h"
+#include "hlod/runtime/Framing.h"
 #include "hlod/store/NodeStore.h"
 #include "service/Args.h"
 #include "service/Progress.h"
@@ -181,7 +182,7 @@ int runRenderPath(const Argv& argv) {
     return 1;
   }
   // The default sun stands above the store's up axis, as for `hlodr render MODEL`.
-  declared = sceneFromArgs(*args, hlod::upVector((*opened)->skeleton().up));
+  declared = sceneFromArgs(*args, hlod::modelUpFrame((*opened)->skeleton()).up);
   if (!declared) return usageError("render", declared.message());
   so.effects = declared->scene.effects;
   auto session =

@@ -8,6 +8,7 @@
 
 #include "cmd/Commands.h"
 #include "cmd/SceneArgs.h"
+#include "hlod/runtime/Framing.h"
 #include "renderer/GlContext.h"
 #include "renderer/Renderer.h"
 #include "service/Args.h"
@@ -185,7 +186,8 @@ int runRender(const Argv& argv) {
     }
     scene->up = *axis;
   }
-  const glm::dvec3 upVector = hlod::upVector(scene->up);
+  // An earth-centred model (a terrain in ECEF) stands on its ellipsoid normal, not an axis.
+  const glm::dvec3 upVector = hlod::modelUpFrame(scene->up, scene->model.bounds()).up;
   options.up = upVector;
   auto declared = sceneFromArgs(*args, upVector);
   if (!declared) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <ctime>
 
+#include "hlod/runtime/Framing.h"
 #include "hlod/runtime/PathRun.h"
 #include "renderer/VideoWriter.h"
 #include "server/Sessions.h"
@@ -227,7 +228,8 @@ ApiResult<std::shared_ptr<hlod::CameraPath>> JobManager::pathOf(const Scene& sce
     const hlod::Skeleton& sk = scene.store->skeleton();
     if (kind == "orbit" && settings.render.camera) {
       const double aspect = double(settings.render.width) / settings.render.height;
-      path = hlod::makeOrbitPathFrom(scene.defaultCamera(aspect, settings.render.camera), sk.up);
+      path = hlod::makeOrbitPathFrom(scene.defaultCamera(aspect, settings.render.camera),
+                                     hlod::modelUpFrame(sk));
     } else {
       path = hlod::makeCameraPath(kind, sk);
     }

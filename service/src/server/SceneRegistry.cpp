@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "hlod/runtime/Framing.h"
 #include "service/SceneLoading.h"
 
 namespace service::server {
@@ -57,7 +58,8 @@ nlohmann::json Scene::summary() const {
           {"triangles",
            {{"input", store->facts().inputTriangles}, {"hlod0", hlod0}, {"leaves", leaves}}},
           {"bounds", {{"min", vec(bounds.min)}, {"max", vec(bounds.max)}}},
-          {"up", vec(hlod::upVector(sk.up))},
+          // The page's orbit and walk stand on it: an earth-centred store's ellipsoid normal.
+          {"up", vec(hlod::modelUpFrame(sk.up, bounds).up)},
           {"defaultCamera",
            {{"position", vec(cam.position)},
             {"target", vec(cam.target)},

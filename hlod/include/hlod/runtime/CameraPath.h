@@ -110,13 +110,20 @@ class CameraPath {
 
 Result<CameraPath> makeWalkFlyPath(const Skeleton& skeleton);
 Result<CameraPath> makeDrivePath(const Skeleton& skeleton);
-// aspect: the width / height the path is meant for (a portrait frame moves the camera back).
+// aspect: the width / height the path is meant for (a portrait frame moves the camera back). The
+// circle is around the model's up (modelUpFrame: an earth-centred model's ellipsoid normal).
 Result<CameraPath> makeOrbitPath(const Skeleton& skeleton, double duration = 30.0,
                                  double fovY = 60.0, double aspect = 16.0 / 9.0);
-// An orbit that starts at `start`: the circle around the up axis through its target that passes
-// through its position, looking at the target, at its fov, once round in `duration` seconds (a
-// scene file's camera for a path job). An Error when the camera looks straight along the up axis.
-Result<CameraPath> makeOrbitPathFrom(const Camera& start, UpAxis up, double duration = 30.0);
+// An orbit that starts at `start`: the circle around the frame's up through its target that
+// passes through its position, looking at the target, at its fov, once round in `duration`
+// seconds (a scene file's camera for a path job). An Error when the camera looks straight along
+// the up axis.
+Result<CameraPath> makeOrbitPathFrom(const Camera& start, const UpFrame& frame,
+                                     double duration = 30.0);
+inline Result<CameraPath> makeOrbitPathFrom(const Camera& start, UpAxis up,
+                                            double duration = 30.0) {
+  return makeOrbitPathFrom(start, upFrame(up), duration);
+}
 // "walk-fly", "drive" or "orbit": the generator of that kind (cameraPathKinds lists them).
 Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton);
 // The kinds makeCameraPath knows, in the order its messages list them.

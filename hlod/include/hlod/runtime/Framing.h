@@ -7,6 +7,7 @@
 #include "hlod/Mesh.h"
 #include "hlod/UpAxis.h"
 #include "hlod/runtime/Camera.h"
+#include "hlod/store/Skeleton.h"
 
 namespace hlod {
 
@@ -22,18 +23,39 @@ constexpr double kFramingFill = 0.95;
 // frame's smaller half-size is tan(fovY / 2) * min(1, aspect).
 double framingDistance(double radius, double fovY, double aspect, double fill = kFramingFill);
 
-// Unit direction from a target to the camera: `azimuth` radians around up from the first of
-// horizontalAxes(up) towards the second, `elevation` radians above the plane they span.
-glm::dvec3 orbitDirection(UpAxis up, double azimuth, double elevation);
+// The frame a model's cameras stand in: for a model lying on the earth in earth-centred
+// coordinates (hlod/geodesy/EarthCentred.h: a terrain in ECEF), the east-north-up frame at the
+// centre of its box, up the ellipsoid's normal; otherwise its up axis's (upFrame).
+UpFrame modelUpFrame(UpAxis up, const Aabb& bounds);
+// The same for a store: its up axis and the box of its roots.
+UpFrame modelUpFrame(const Skeleton& skeleton);
+
+// Unit direction from a target to the camera: `azimuth` radians around up from the frame's first
+// horizontal axis towards the second, `elevation` radians above the plane they span.
+glm::dvec3 orbitDirection(const UpFrame& frame, double azimuth, double elevation);
+inline glm::dvec3 orbitDirection(UpAxis up, double azimuth, double elevation) {
+  return orbitDirection(upFrame(up), azimuth, elevation);
+}
 
 // Where a model is seen from by default: a three-quarter view from 30 degrees above. A z-up
-// city from the south-west (-X, -Y), so that facades on both street directions show; a y-up
-// mesh from its front (+Z, the glTF convention) and a little to its right (+X).
-glm::dvec3 defaultViewDirection(UpAxis up);
+// city (and an earth-centred model, in its east-north-up frame) from the south-west, so that
+// facades on both street directions show; a y-up mesh from its front (+Z, the glTF convention)
+// and a little to its right (+X).
+glm::dvec3 defaultViewDirection(const UpFrame& frame);
+inline glm::dvec3 defaultViewDirection(UpAxis up) {
+  return defaultViewDirection(upFrame(up));
+}
 
 // A camera on `direction` (unit) from the centre of bounds, at framingDistance of the box's
-// bounding sphere, looking at the centre with the model's up. Near and far hold the sphere.
-Camera frameBounds(const Aabb& bounds, UpAxis up, const glm::dvec3& direction, double fovY,
-                   double aspect);
+// bounding sphere, looking at the centre with the frame's up. Near and far hold the sphere.
+Camera frameBounds(const Aabb& bounds, const UpFrame& frame, const glm::dvec3& direction,
+                   double fovY, double aspect);
+inline Camera frameBounds(const Aabb& bounds, UpAxis up, const glm::dvec3& direction, double fovY,
+                          double aspect) {
+  return frameBounds(bounds, upFrame(up), direction, fovY, aspect);
+}
+
+// The default view of a model: modelUpFrame, defaultViewDirection and frameBounds in one.
+Camera defaultView(const Aabb& bounds, UpAxis up, double fovY, double aspect);
 
 }  // namespace hlod

@@ -20,9 +20,8 @@ namespace {
 // keyframes' coordinates, so the extremes must be keyframes, and at this spacing the radius stays
 // within 1e-5 and the speed within 0.3% of the circle's.
 Result<CameraPath> orbitCircle(const glm::dvec3& centre, double rho, double height, double azimuth0,
-                               UpAxis up, double fovY, double duration) {
-  glm::dvec3 first, second;
-  horizontalAxes(up, first, second);
+                               const UpFrame& frame, double fovY, double duration) {
+  const glm::dvec3 &first = frame.first, &second = frame.second;
   const double turn = 2.0 * std::numbers::pi;
   const int n = 48;
   std::vector<double> angles;  // from the start, in [0, turn)
@@ -41,10 +40,9 @@ Result<CameraPath> orbitCircle(const glm::dvec3& centre, double rho, double heig
     const double az = azimuth0 + a;
     CameraKeyframe k;
     k.time = duration * a / turn;
-    k.position =
-        centre + rho * (std::cos(az) * first + std::sin(az) * second) + height * upVector(up);
+    k.position = centre + rho * (std::cos(az) * first + std::sin(az) * second) + height * frame.up;
     k.target = centre;
-    k.up = upVector(up);
+    k.up = frame.up;
     k.fovY = fovY;
     keys.push_back(k);
   }
@@ -65,24 +63,23 @@ Result<CameraPath> makeOrbitPath(const Skeleton& sk, double duration, double fov
   const double r = std::max(1e-3, 0.5 * glm::length(b.size()));
   const double dist = framingDistance(r, fovY, aspect);
   const double elevation = glm::radians(30.0);
-  return orbitCircle(b.centre(), dist * std::cos(elevation), dist * std::sin(elevation), 0.0, sk.up,
-                     fovY, duration);
+  // An earth-centred model circles its ellipsoid normal (modelUpFrame), not an axis.
+  return orbitCircle(b.centre(), dist * std::cos(elevation), dist * std::sin(elevation), 0.0,
+                     modelUpFrame(sk.up, b), fovY, duration);
 }
 
-Result<CameraPath> makeOrbitPathFrom(const Camera& start, UpAxis up, double duration) {
+Result<CameraPath> makeOrbitPathFrom(const Camera& start, const UpFrame& frame, double duration) {
   if (!finite(start.position) || !finite(start.target) || !(start.fovY > 0.0 && start.fovY < 180.0))
     return makeError("orbit path: the start camera is not finite");
   if (!(duration > 0.0) || !std::isfinite(duration)) duration = 30.0;
-  glm::dvec3 first, second;
-  horizontalAxes(up, first, second);
   const glm::dvec3 offset = start.position - start.target;
-  const double x = glm::dot(offset, first), y = glm::dot(offset, second);
+  const double x = glm::dot(offset, frame.first), y = glm::dot(offset, frame.second);
   const double rho = std::hypot(x, y);
   if (!(rho > 1e-9 * std::max(1.0, glm::length(offset))))
     return makeError(
         "orbit path: the camera looks along the up axis, so there is no circle "
         "around its target to follow");
-  return orbitCircle(start.target, rho, glm::dot(offset, upVector(up)), std::atan2(y, x), up,
+  return orbitCircle(start.target, rho, glm::dot(offset, frame.up), std::atan2(y, x), frame,
                      start.fovY, duration);
 }
 

@@ -1,6 +1,9 @@
 // The streets of a city model (runtime/paths/Streets.h).
 #include "runtime/paths/Streets.h"
 
+#include "hlod/geodesy/EarthCentred.h"
+#include "runtime/paths/PathGenerators.h"
+
 #include <algorithm>
 #include <string>
 #include <utility>
@@ -39,6 +42,12 @@ std::vector<double> streetsAlong(const Skeleton& sk, int axis, double minGap) {
 }
 
 Status requireZUp(const char* kind, const Skeleton& sk) {
+  // Earth-centred coordinates have no streets along their own x and y.
+  if (isEarthCentred(rootBounds(sk)))
+    return makeError(std::string(kind) +
+                     " path: the store lies on the earth in earth-centred coordinates (ECEF), "
+                     "where streets do not run along x and y (use --kind orbit: it circles the "
+                     "ellipsoid's normal)");
   if (sk.up == UpAxis::Z) return Ok{};
   return makeError(std::string(kind) + " path: defined for z-up cities, and this store is " +
                    upAxisName(sk.up) + "-up (use --kind orbit, or rebuild with --up z if the " +

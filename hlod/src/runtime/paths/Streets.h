@@ -17,7 +17,8 @@ constexpr double kMinStreet = 3.0;  // metres: narrower gaps are not streets
 std::vector<double> streetsAlong(const Skeleton& sk, int axis, double minGap);
 
 // The street generators read the model as a z-up city (streets in X and Y, heights in Z): an
-// Error naming `kind` and suggesting the orbit when the store is not z-up.
+// Error naming `kind` and suggesting the orbit when the store is not z-up, or lies on the earth
+// in earth-centred coordinates.
 Status requireZUp(const char* kind, const Skeleton& sk);
 
 }  // namespace hlod
