@@ -12,7 +12,7 @@
 #include "ImportTestUtil.h"
 #include "TilesetSchemaCheck.h"
 #include "hlod/builder/HlodBuilder.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "hlod/import/Import.h"
 #include "hlod/tiles/TilesetExport.h"
 #include "hlod/tiles/TilesetImport.h"

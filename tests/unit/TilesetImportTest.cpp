@@ -8,7 +8,7 @@
 
 #include "SharedData.h"
 #include "TilesetTestUtil.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "hlod/store/NodeStore.h"
 #include "hlod/tiles/TilesetImport.h"
 

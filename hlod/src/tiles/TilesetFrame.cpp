@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "hlod/city/GeoReference.h"
+#include "hlod/geodesy/GeoReference.h"
 
 namespace hlod::tiles {
 

@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "hlod/UpAxis.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "hlod/store/Skeleton.h"
 #include "hlod/tiles/Glb.h"
 

@@ -9,7 +9,7 @@
 #include <set>
 
 #include "hlod/JsonDepth.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "hlod/import/InsideFolder.h"
 #include "hlod/tiles/Subtree.h"
 #include "hlod/tiles/TileFormats.h"
