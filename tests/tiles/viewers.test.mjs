@@ -7,7 +7,8 @@
 //  3. the same in CesiumJS.
 // It makes a small city (HLODR_TILES_BLOCKS blocks, default 4), builds and exports it, unless
 // HLODR_TILES_STORE names a store to export. Screenshots and measures go to HLODR_TILES_OUT
-// (default build/tiles-viewers): hlodr.png, three.png, cesium.png, viewers.json.
+// (default build/tiles-viewers): hlodr.png, three.png, cesium.png, viewers.json. Each viewer
+// gets HLODR_TILES_TIMEOUT_S (default 240) to load what it selects.
 // Exits 77 (skipped, with the reason) when Chromium or node_modules is missing, and fails
 // instead when CI is set.
 import assert from 'node:assert/strict';
@@ -131,7 +132,7 @@ try {
     viewport: { width: WIDTH, height: HEIGHT } });
   const camera = { position: key.position, target: key.target, up: key.up, fov: key.fov, near: 0.5, far: 1e5 };
   const options = { tileset: '/tiles/tileset.json', reference: '/ref/frame_00000.png', width: WIDTH, height: HEIGHT,
-    camera, background: BACKGROUND, timeoutMs: 240000 };
+    camera, background: BACKGROUND, timeoutMs: 1000 * Number(process.env.HLODR_TILES_TIMEOUT_S || 240) };
   for (const viewer of ['three', 'cesium']) {
     const page = await context.newPage();
     const problems = [];
