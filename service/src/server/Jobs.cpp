@@ -240,34 +240,24 @@ ApiResult<std::shared_ptr<hlod::CameraPath>> JobManager::pathOf(const Scene& sce
   return std::make_shared<hlod::CameraPath>(std::move(*path));
 }
 
-ApiResult<std::shared_ptr<Job>> JobManager::admitJob(const std::shared_ptr<Scene>& scene,
-                                                     JobSettings settings,
-                                                     const std::string& kind) {
-  auto job = std::make_shared<Job>();
-  {
-    std::lock_guard lock(mutex_);
-    std::size_t active = 0;
-    for (const auto& j : jobs_) active += !j->finished();
-    if (active >= limits_.maxJobs)
-      return ApiError{429, "too_many_jobs",
-                      "at most " + std::to_string(limits_.maxJobs) +
-                          " jobs queued or running; wait or cancel one"};
-    do job->id = newId(kind == "study" ? 'a' : 'j');
-    while (
-        std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& j) { return j->id == job->id; }));
-    job->kind = kind;
-    job->scene = scene;
-    job->settings = std::move(settings);
-    job->createdAt = utcNow();
-    job->dir = jobsDir_ / job->id;
-    jobs_.push_back(job);
-  }
+ApiResult<std::shared_ptr<Job>> JobManager::admitJob(std::shared_ptr<Job> job) {
+  // The job comes whole (settings, frame count, study options): once in jobs_, HTTP threads read
+  // it. Only its id, time and folder are set here, under the lock, before it is published.
+  std::lock_guard lock(mutex_);
+  std::size_t active = 0;
+  for (const auto& j : jobs_) active += !j->finished();
+  if (active >= limits_.maxJobs)
+    return ApiError{429, "too_many_jobs",
+                    "at most " + std::to_string(limits_.maxJobs) +
+                        " jobs queued or running; wait or cancel one"};
+  do job->id = newId(job->kind == "study" ? 'a' : 'j');
+  while (std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& j) { return j->id == job->id; }));
+  job->createdAt = utcNow();
+  job->dir = jobsDir_ / job->id;
   std::error_code ec;
   fs::create_directories(job->dir / "frames", ec);
-  if (ec) {
-    job->setState(JobState::Failed, "cannot create the job's folder: " + ec.message());
-    return ApiError{500, "internal", "cannot create the job's folder: " + ec.message()};
-  }
+  if (ec) return ApiError{500, "internal", "cannot create the job's folder: " + ec.message()};
+  jobs_.push_back(job);
   return job;
 }
 
@@ -292,10 +282,14 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
                       std::to_string(limits_.maxFrames) + " (give \"frames\" or a lower fps)");
   if (settings.video && (settings.render.width % 2 || settings.render.height % 2))
     return badRequest("video: an MP4 needs an even width and height");
-  auto admitted = admitJob(scene, std::move(settings), "path");
+  auto made = std::make_shared<Job>();
+  made->kind = "path";
+  made->scene = scene;
+  made->settings = std::move(settings);
+  made->framesTotal = total;
+  auto admitted = admitJob(std::move(made));
   if (!admitted) return admitted.error();
   std::shared_ptr<Job> job = *admitted;
-  job->framesTotal = total;
   std::shared_ptr<hlod::CameraPath> shared = *path;
   leastBusyRunner()->post([this, job, shared](renderer::GlContext& gl) {
     if (job->cancel) {
@@ -319,10 +313,14 @@ ApiResult<nlohmann::json> JobManager::submitStudy(const std::shared_ptr<Scene>& 
     return badRequest(
         "a realtime study renders every frame of the path: " + std::to_string(*count) +
         " frames, more than the server's limit of " + std::to_string(limits_.maxFrames));
-  auto admitted = admitJob(scene, std::move(settings), "study");
+  auto made = std::make_shared<Job>();
+  made->kind = "study";
+  made->scene = scene;
+  made->settings = std::move(settings);
+  made->study = std::move(study);
+  auto admitted = admitJob(std::move(made));
   if (!admitted) return admitted.error();
   std::shared_ptr<Job> job = *admitted;
-  job->study = std::move(study);
   std::shared_ptr<hlod::CameraPath> shared = *path;
   leastBusyRunner()->post([job, shared](renderer::GlContext& gl) {
     if (job->cancel) {

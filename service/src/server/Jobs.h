@@ -113,8 +113,8 @@ class JobManager {
   void runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
                   renderer::GlContext& context);
   void trimFinished();
-  ApiResult<std::shared_ptr<Job>> admitJob(const std::shared_ptr<Scene>& scene, JobSettings s,
-                                           const std::string& kind);
+  // Gives the job its id and folder and publishes it; 429 past --max-jobs.
+  ApiResult<std::shared_ptr<Job>> admitJob(std::shared_ptr<Job> job);
   ApiResult<std::shared_ptr<hlod::CameraPath>> pathOf(const Scene& scene, const JobSettings& s);
   RenderWorker* leastBusyRunner() const;
 
