@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <ctime>
+#include <fstream>
+#include <limits>
+#include <tuple>
 
 #include "hlod/runtime/PathRun.h"
 #include "renderer/VideoWriter.h"
-#include "server/Sessions.h"
+#include "server/SessionManager.h"
 
 namespace service::server {
 
@@ -28,6 +31,21 @@ const char* jobStateName(JobState s) {
 }
 
 namespace {
+
+constexpr int kRecordVersion = 1;
+
+std::string readText(const fs::path& path, const std::string& fallback) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fallback;
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The seconds since 1970 of utcNow()'s form; 0 for anything else (an old job).
+std::time_t parseUtc(const std::string& text) {
+  std::tm tm{};
+  const char* end = strptime(text.c_str(), "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return end && *end == '\0' ? timegm(&tm) : 0;
+}
 
 std::string utcNow() {
   const std::time_t t = std::time(nullptr);
@@ -74,6 +92,7 @@ void Job::setState(JobState s, const std::string& error) {
     if (!error.empty()) error_ = error;
   }
   cv_.notify_all();
+  saveRecord();
 }
 
 void Job::setProgress(double fraction, const std::string& what) {
@@ -125,9 +144,24 @@ Job::Events Job::eventsFrom(std::size_t from, JobState knownState,
 
 nlohmann::json Job::json() const {
   std::lock_guard lock(mutex_);
+  return jsonLocked();
+}
+
+nlohmann::json Job::jsonLocked() const {
   const std::string base = "/api/jobs/" + id;
   const bool done =
       state_ == JobState::Done || state_ == JobState::Failed || state_ == JobState::Cancelled;
+  const nlohmann::json video =
+      videoReady_ ? nlohmann::json(base + "/video.mp4") : nlohmann::json(nullptr);
+  if (recorded_) {
+    // As it was recorded, with what may have changed since: an interrupted job's state.
+    nlohmann::json j = *recorded_;
+    j["state"] = jobStateName(state_);
+    j["finished"] = done;
+    if (!error_.empty()) j["error"] = error_;
+    if (kind == "path") j["outputs"]["video"] = video;
+    return j;
+  }
   nlohmann::json settingsJson = settings.render.json();
   settingsJson["mode"] = settings.mode == hlod::FrameMode::Settled ? "settled" : "realtime";
   settingsJson["fps"] = settings.fps;
@@ -175,8 +209,7 @@ nlohmann::json Job::json() const {
       {"settings", settingsJson},
       {"summary", nlohmann::json::parse(hlod::summaryJson(hlod::summarize(records_)))},
       {"outputs",
-       {{"video", settings.video && state_ == JobState::Done ? nlohmann::json(base + "/video.mp4")
-                                                             : nlohmann::json(nullptr)},
+       {{"video", video},
         {"statsJson", base + "/stats"},
         {"statsCsv", base + "/stats.csv"},
         {"events", base + "/events"},
@@ -187,11 +220,13 @@ nlohmann::json Job::json() const {
 }
 
 std::string Job::statsJson() const {
+  if (recorded_) return readText(dir / "stats.json", "{\"frames\": [], \"summary\": {}}");
   std::lock_guard lock(mutex_);
   return hlod::statsJson(records_, hlod::summarize(records_));
 }
 
 std::string Job::statsCsv() const {
+  if (recorded_) return readText(dir / "stats.csv", "");
   std::lock_guard lock(mutex_);
   return hlod::statsCsv(records_);
 }
@@ -199,9 +234,79 @@ std::string Job::statsCsv() const {
 fs::path Job::framePath(std::uint64_t n) const {
   {
     std::lock_guard lock(mutex_);
-    if (n >= records_.size()) return {};
+    if (n >= frameJson_.size()) return {};
   }
   return dir / "frames" / renderer::ImageSequenceSink::frameName(n, "jpg");
+}
+
+std::uint64_t Job::bytes() const {
+  if (const std::uint64_t known = bytes_.load(); known > 0) return known;
+  std::uint64_t total = 0;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    std::error_code e;
+    if (it->is_regular_file(e)) total += it->file_size(e);
+  }
+  total = std::max<std::uint64_t>(total, 1);
+  if (finished()) bytes_ = total;  // a finished job's folder no longer grows
+  return total;
+}
+
+void Job::saveRecord() const {
+  const nlohmann::json record = {{"record", kRecordVersion},
+                                 {"job", json()},
+                                 {"videoReady", videoReady_.load()},
+                                 {"framesTotal", framesTotal},
+                                 {"sequence", sequence}};
+  std::lock_guard lock(recordMutex_);
+  // Written whole, then renamed over the last one: a record is never half written.
+  const fs::path tmp = dir / "job.json.tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << record.dump(1) << "\n";
+    if (!out) return;  // a full disk: the last record stands
+  }
+  std::error_code ec;
+  fs::rename(tmp, dir / "job.json", ec);
+}
+
+hlod::Result<std::shared_ptr<Job>> Job::restore(const fs::path& dir) {
+  const std::string text = readText(dir / "job.json", "");
+  if (text.empty()) return hlod::makeError("no record");
+  const nlohmann::json record = nlohmann::json::parse(text, nullptr, false);
+  if (!record.is_object() || record.value("record", 0) != kRecordVersion ||
+      !record.contains("job") || !record["job"].is_object())
+    return hlod::makeError("not a job record");
+  const nlohmann::json& j = record["job"];
+  auto job = std::make_shared<Job>();
+  job->id = j.value("id", "");
+  job->kind = j.value("kind", "");
+  job->createdAt = j.value("createdAt", "");
+  job->dir = dir;
+  const std::string state = j.value("state", "");
+  if (job->id != dir.filename().string() || (job->kind != "path" && job->kind != "study") ||
+      job->createdAt.empty() || state.empty())
+    return hlod::makeError("not a job record");
+  job->recorded_ = j;
+  job->framesTotal = record.value("framesTotal", std::uint64_t{0});
+  job->sequence = record.value("sequence", std::uint64_t{0});
+  job->videoReady_ = record.value("videoReady", false);
+  if (j.contains("settings") && j["settings"].is_object())
+    job->settings.video = j["settings"].value("video", false);
+  job->state_ = JobState::Failed;
+  for (JobState s : {JobState::Done, JobState::Failed, JobState::Cancelled})
+    if (state == jobStateName(s)) job->state_ = s;
+  if (state == "queued" || state == "running")
+    job->error_ = "interrupted: the server stopped while the job was " + state;
+  // The frames it rendered, for its event stream's replay and its frame routes.
+  if (job->kind == "path") {
+    const nlohmann::json stats =
+        nlohmann::json::parse(readText(dir / "stats.json", ""), nullptr, false);
+    if (stats.is_object() && stats.contains("frames") && stats["frames"].is_array())
+      for (const auto& f : stats["frames"]) job->frameJson_.push_back(f.dump());
+  }
+  return job;
 }
 
 fs::path Job::videoPath() const {
@@ -214,7 +319,9 @@ JobManager::JobManager(std::vector<RenderWorker*> runners, SceneRegistry& scenes
       scenes_(scenes),
       metrics_(metrics),
       jobsDir_(std::move(jobsDir)),
-      limits_(limits) {}
+      limits_(limits) {
+  restoreAll();
+}
 
 JobManager::~JobManager() = default;
 
@@ -253,11 +360,13 @@ ApiResult<std::shared_ptr<Job>> JobManager::admitJob(std::shared_ptr<Job> job) {
   do job->id = newId(job->kind == "study" ? 'a' : 'j');
   while (std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& j) { return j->id == job->id; }));
   job->createdAt = utcNow();
+  job->sequence = ++sequence_;
   job->dir = jobsDir_ / job->id;
   std::error_code ec;
   fs::create_directories(job->dir / "frames", ec);
   if (ec) return ApiError{500, "internal", "cannot create the job's folder: " + ec.message()};
   jobs_.push_back(job);
+  job->saveRecord();
   return job;
 }
 
@@ -272,7 +381,11 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
                                              JobSettings settings) {
   auto path = pathOf(*scene, settings);
   if (!path) return path.error();
-  auto count = (*path)->frameCount(settings.fps);
+  // One rule with `hlodr render --path --frames`: a path may be of any length when "frames"
+  // takes only its first frames; the frames rendered are what --max-frames bounds.
+  auto count = (*path)->frameCount(settings.fps, settings.frames >= 0
+                                                     ? std::numeric_limits<std::uint64_t>::max()
+                                                     : hlod::kMaxPathFrames);
   if (!count) return badRequest("path: " + count.message());
   std::uint64_t total = *count;
   if (settings.frames >= 0) total = std::min<std::uint64_t>(total, settings.frames);
@@ -299,7 +412,7 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
     job->setState(JobState::Running);
     runPathJob(job, *shared, gl);
   });
-  trimFinished();
+  expire();
   return job->json();
 }
 
@@ -338,7 +451,7 @@ ApiResult<nlohmann::json> JobManager::submitStudy(const std::shared_ptr<Scene>& 
     else
       job->setState(job->cancel ? JobState::Cancelled : JobState::Failed, report.message());
   });
-  trimFinished();
+  expire();
   return job->json();
 }
 
@@ -375,10 +488,13 @@ void JobManager::runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraP
   job->scene->rememberVTime(job->settings.render.width, job->settings.render.height,
                             (*session)->selector().vTime());
   session->reset();  // on this thread, with its context current
-  if (!ran)
+  if (!ran) {
     job->setState(JobState::Failed, ran.message());
-  else
+  } else {
+    // Every sink finished: the video, if any, is a closed MP4 of the frames rendered.
+    job->videoReady_ = job->settings.video && ran->framesRendered > 0;
     job->setState(ran->cancelled ? JobState::Cancelled : JobState::Done);
+  }
 }
 
 std::vector<std::shared_ptr<Job>> JobManager::list() const {
@@ -409,26 +525,77 @@ ApiResult<bool> JobManager::cancelOrRemove(const std::string& id) {
   return false;
 }
 
-void JobManager::trimFinished() {
-  std::vector<std::shared_ptr<Job>> gone;
+void JobManager::restoreAll() {
+  std::error_code ec;
+  std::vector<std::shared_ptr<Job>> found;
+  for (const auto& e : fs::directory_iterator(jobsDir_, ec)) {
+    std::error_code e2;
+    if (!e.is_directory(e2)) continue;
+    auto job = Job::restore(e.path());
+    if (job) {
+      found.push_back(*job);
+      continue;
+    }
+    // A job's folder without its record (written by an older server, or by one that died while
+    // admitting it): nobody can reach it; it goes once it is as old as a finished job would.
+    const std::string name = e.path().filename().string();
+    const bool jobName = name.size() == 9 && (name[0] == 'j' || name[0] == 'a') &&
+                         name.find_first_not_of("0123456789abcdef", 1) == std::string::npos;
+    const auto written = fs::last_write_time(e.path(), e2);
+    if (jobName && !e2 && limits_.keepDays > 0 &&
+        fs::file_time_type::clock::now() - written >
+            std::chrono::duration<double>(limits_.keepDays * 86400.0))
+      fs::remove_all(e.path(), e2);
+  }
+  // In the order they were made (createdAt has whole seconds: the sequence breaks ties).
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) {
+    return std::tie(a->createdAt, a->sequence) < std::tie(b->createdAt, b->sequence);
+  });
   {
     std::lock_guard lock(mutex_);
-    std::size_t finished = 0;
-    for (const auto& j : jobs_) finished += j->finished();
-    for (auto it = jobs_.begin(); it != jobs_.end() && finished > limits_.keepFinished;) {
-      if ((*it)->finished()) {
-        gone.push_back(*it);
-        it = jobs_.erase(it);
-        --finished;
-      } else {
-        ++it;
-      }
-    }
+    jobs_ = std::move(found);
+    for (const auto& j : jobs_) sequence_ = std::max(sequence_, j->sequence);
+  }
+  restored_ = jobs_.size();
+  // An interrupted job's record says so from now on.
+  for (const auto& j : jobs_)
+    if (j->recorded_ && j->recorded_->value("state", "") != jobStateName(j->state()))
+      j->saveRecord();
+  expire();
+}
+
+std::size_t JobManager::expire() {
+  std::vector<std::shared_ptr<Job>> finished;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& j : jobs_)
+      if (j->finished()) finished.push_back(j);  // oldest first
+  }
+  // Sizes and ages outside the lock: the first count of a folder reads the disk.
+  const std::time_t now = std::time(nullptr);
+  std::vector<std::shared_ptr<Job>> gone;
+  std::uint64_t total = 0;
+  for (const auto& j : finished) total += j->bytes();
+  std::size_t left = finished.size();
+  for (const auto& j : finished) {
+    const bool old =
+        limits_.keepDays > 0 && double(now - parseUtc(j->createdAt)) > limits_.keepDays * 86400.0;
+    const bool tooMany = left > limits_.keepFinished;
+    const bool tooLarge = limits_.maxBytes > 0 && total > limits_.maxBytes;
+    if (!old && !tooMany && !tooLarge) continue;
+    gone.push_back(j);
+    --left;
+    total -= j->bytes();
+  }
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& j : gone) std::erase(jobs_, j);
   }
   for (const auto& j : gone) {
     std::error_code ec;
     fs::remove_all(j->dir, ec);
   }
+  return gone.size();
 }
 
 std::map<std::string, double> JobManager::countByState() const {
