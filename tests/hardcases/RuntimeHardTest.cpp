@@ -14,6 +14,7 @@
 
 #include "../gl/RunHlodr.h"
 #include "../unit/RuntimeTestScene.h"
+#include "hlod/import/Import.h"
 #include "hlod/runtime/Loader.h"
 #include "hlod/store/NodeStore.h"
 
@@ -171,4 +172,26 @@ TEST_F(RuntimeHard, FramesOfALongPathAreCappedBeforeAnythingIsAllocated) {
       gltest::runHlodr("render " + store().string() + " --path " + (dir / "huge.json").string() +
                        " -o " + (dir / "out2").string() + " --quiet");
   EXPECT_NE(h.status, 0) << h.output;
+}
+
+// A disk that fills while frames are written (here a file size limit: writes past 8 KB fail as
+// on a full disk) fails the run and leaves no file half written: no truncated frame, no empty
+// stats.json. Each is written under a temporary name and renamed once whole.
+TEST_F(RuntimeHard, AFullDiskLeavesNoTornFrameOrEmptyStats) {
+  makeStore();
+  const fs::path out = dir / "frames";
+  auto r = gltest::runHlodr("render " + store().string() + " --path " + path().string() + " -o " +
+                                out.string() + " --frames 3 --size 320x180 --quiet",
+                            "trap '' XFSZ; ulimit -f 16;");
+  EXPECT_EQ(r.status, 1) << r.output;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(out, ec)) {
+    const std::string name = e.path().filename().string();
+    EXPECT_EQ(name.find(".partial"), std::string::npos) << name;
+    if (name.rfind("frame_", 0) == 0) {
+      auto img = hlod::loadImage(e.path());
+      EXPECT_TRUE(img.ok()) << name << " is torn: " << img.message();
+    }
+    if (name == "stats.json") EXPECT_GT(fs::file_size(e.path()), 0u) << name;
+  }
 }
