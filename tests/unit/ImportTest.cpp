@@ -1,5 +1,6 @@
 // Mesh import of OFF, STL, OBJ and glTF, and loadImage: hand-made files with exact expectations,
 // and broken files that must give an Error naming the file (never a crash).
+#include "hlod/import/ImageWriter.h"
 #include "hlod/import/Import.h"
 
 #include <gtest/gtest.h>
@@ -226,6 +227,30 @@ TEST(ObjImport, SplitsVerticesThatDifferInTexCoordOrNormal) {
   EXPECT_EQ(ok->meshes[0].positions.size(), 7u);
   EXPECT_EQ(ok->meshes[0].texCoords.size(), 7u);
   EXPECT_TRUE(ok->meshes[0].normals.empty());
+}
+
+// A texture wider than GL draws (16384 on llvmpipe and most GPUs) was drawn black with exit 0:
+// it is resized to fit, with a warning that names it.
+TEST(ObjImport, ATextureWiderThanGlDrawsIsResizedWithAWarning) {
+  TempDir dir;
+  Image wide;
+  wide.width = 16400;
+  wide.height = 2;
+  wide.pixels.assign(std::size_t(wide.width) * wide.height * 4, 200);
+  ASSERT_TRUE(writeImageFile(dir.file("wide.png"), wide, {.alpha = true}).ok());
+  dir.write("m.mtl", "newmtl w\nKd 1 1 1\nmap_Kd wide.png\n");
+  auto model = importModel(dir.write("w.obj",
+                                     "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\n"
+                                     "vt 0 1\nusemtl w\nf 1/1 2/2 3/3\n"));
+  ASSERT_TRUE(model.ok()) << model.message();
+  ASSERT_EQ(model->meshes.size(), 1u);
+  ASSERT_TRUE(model->meshes[0].texture);
+  EXPECT_EQ(model->meshes[0].texture->width, 16384);
+  EXPECT_EQ(model->meshes[0].texture->height, 1);
+  EXPECT_EQ(model->meshes[0].texture->pixels[0], 200);
+  ASSERT_EQ(model->warnings.size(), 1u);
+  EXPECT_NE(model->warnings[0].find("16400x2"), std::string::npos) << model->warnings[0];
+  EXPECT_NE(model->warnings[0].find("resized to 16384x1"), std::string::npos);
 }
 
 TEST(ObjImport, MakesOneMeshPerMaterialWithColourAndTexture) {
