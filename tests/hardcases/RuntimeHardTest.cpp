@@ -123,6 +123,17 @@ TEST_F(RuntimeHard, ACorruptLeafPayloadIsReportedAndTheRunFails) {
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("failed to load"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("rebuild"), std::string::npos) << r.output;
+  // The study measured against a reference without the leaves and exited 0; one frame of the
+  // store did not say either.
+  for (const std::string& command :
+       {"study " + store().string() + " --path " + path().string() + " -o " +
+            (dir / "study").string() + " --frames 2 --budgets 33 --selectors lakhia --strips 0",
+        "render " + store().string() + " -o " + (dir / "one.png").string() +
+            " --selector full --mode settled"}) {
+    auto s = gltest::runHlodr(command + " --quiet --size 160x90");
+    EXPECT_EQ(s.status, 1) << command << "\n" << s.output;
+    EXPECT_NE(s.output.find("failed to load"), std::string::npos) << s.output;
+  }
 }
 
 TEST_F(RuntimeHard, ANodeTooLargeToAllocateFailsAloneAndIsCounted) {

@@ -217,14 +217,8 @@ int runRenderPath(const Argv& argv) {
     return 1;
   }
   // A node that failed to load was drawn coarser all along: say so, and fail the run.
-  const hlod::LoaderCounters lc = (*session)->loaderCounters();
-  if (lc.loadErrors > 0) {
-    std::fprintf(stderr,
-                 "hlodr render: %llu node(s) of the store failed to load and were drawn coarser "
-                 "(last: %s); the store is damaged, rebuild it with `hlodr build`\n",
-                 static_cast<unsigned long long>(lc.loadErrors),
-                 (*session)->lastLoadError().c_str());
-  }
+  const std::string failure = (*session)->loadFailure();
+  if (!failure.empty()) std::fprintf(stderr, "hlodr render: %s\n", failure.c_str());
   const auto& s = result->summary;
   std::printf(
       "%zu frames -> %s\n"
@@ -239,7 +233,7 @@ int runRenderPath(const Argv& argv) {
   if (s.capBytes > 0) std::printf(" of cap %.1f MB (%.2f)", s.capBytes / 1048576.0, s.peakOverCap);
   std::printf("\nstats: %s\n", result->statsJson.string().c_str());
   for (const auto& p : result->plots) std::printf("plot: %s\n", p.string().c_str());
-  return lc.loadErrors > 0 ? 1 : 0;
+  return failure.empty() ? 0 : 1;
 }
 
 }  // namespace service::cmd
