@@ -189,6 +189,34 @@ TEST(StlImport, RejectsNanCoordinate) {
 const std::string kPpm =
     std::string("P6\n3 1\n255\n") + std::string("\xff\x00\x00\x00\xff\x00\x00\x00\xff", 9);
 
+// 20,000 usemtl names over three colours: the materials that draw alike are one mesh each (they
+// were 20,000 meshes, one draw call each, and the name lookup was quadratic).
+TEST(ObjImport, ManyMaterialNamesOfFewColoursBecomeOneMeshPerColour) {
+  TempDir dir;
+  std::string mtl, obj = "mtllib m.mtl\n";
+  const char* colours[3] = {"1 0 0", "0 1 0", "0 0 1"};
+  constexpr int kNames = 20000;
+  for (int i = 0; i < kNames; ++i) {
+    mtl += "newmtl m" + std::to_string(i) + "\nKd " + colours[i % 3] + "\n";
+    obj += "v " + std::to_string(i) + " 0 0\nv " + std::to_string(i) + " 1 0\nv " +
+           std::to_string(i) + " 0 1\nusemtl m" + std::to_string(i) + "\nf -3 -2 -1\n";
+  }
+  dir.write("m.mtl", mtl);
+  auto model = importModel(dir.write("many.obj", obj));
+  ASSERT_TRUE(model.ok()) << model.message();
+  ASSERT_EQ(model->meshes.size(), 3u);
+  std::size_t triangles = 0;
+  for (const Mesh& m : model->meshes) {
+    triangles += m.triangleCount();
+    EXPECT_EQ(m.triangleCount(), m.baseColor.b > 0.5f ? 6666u : 6667u);  // i % 3 of 0..19999
+  }
+  EXPECT_EQ(triangles, std::size_t(kNames));
+  // The triangles keep their own corners: the last red one is where the file put it.
+  const Mesh& red = model->meshes[0];
+  EXPECT_EQ(red.baseColor, glm::vec4(1, 0, 0, 1));
+  EXPECT_EQ(red.positions[red.indices.back()], glm::dvec3(kNames - 2, 0, 1));
+}
+
 TEST(ObjImport, ReadsAllIndexFormsNegativeIndicesAndTriangulatesQuads) {
   TempDir dir;
   auto model = importModel(dir.write("quad.obj",
