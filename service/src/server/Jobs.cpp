@@ -167,8 +167,7 @@ nlohmann::json Job::jsonLocked() const {
   settingsJson["fps"] = settings.fps;
   settingsJson["video"] = settings.video;
   settingsJson["prefetch"] = settings.prefetch;
-  settingsJson["path"] =
-      settings.path.contains("kind") ? settings.path : nlohmann::json("keyframes");
+  settingsJson["path"] = settings.path.json();
   if (kind == "study") {
     nlohmann::json j = {
         {"id", id},
@@ -188,7 +187,7 @@ nlohmann::json Job::jsonLocked() const {
           {"mode", study.settled && study.realtime ? "both"
                    : study.realtime                ? "realtime"
                                                    : "settled"},
-          {"path", settings.path.contains("kind") ? settings.path : nlohmann::json("keyframes")}}},
+          {"path", settings.path.json()}}},
         {"finished", done},
         {"outputs",
          {{"report", state_ == JobState::Done
@@ -325,26 +324,23 @@ JobManager::JobManager(std::vector<RenderWorker*> runners, SceneRegistry& scenes
 
 JobManager::~JobManager() = default;
 
-ApiResult<std::shared_ptr<hlod::CameraPath>> JobManager::pathOf(const Scene& scene,
-                                                                const JobSettings& settings) {
-  // The path: generated for the scene, or given. A scene file's camera is where an orbit starts.
+ApiResult<std::shared_ptr<const hlod::CameraPath>> JobManager::pathOf(const Scene& scene,
+                                                                      const JobSettings& settings) {
+  // Given as keyframes (parsed by readPathSpec), or generated for the scene: a scene file's
+  // camera is where an orbit starts.
+  const PathSpec& spec = settings.path;
+  if (spec.keyframes) return spec.keyframes;
+  const hlod::Skeleton& sk = scene.store->skeleton();
   hlod::Result<hlod::CameraPath> path = hlod::makeError("no path");
-  if (settings.path.contains("kind")) {
-    const std::string kind = settings.path["kind"].get<std::string>();
-    const hlod::Skeleton& sk = scene.store->skeleton();
-    if (kind == "orbit" && settings.render.camera) {
-      const double aspect = double(settings.render.width) / settings.render.height;
-      path = hlod::makeOrbitPathFrom(scene.defaultCamera(aspect, settings.render.camera), sk.up);
-    } else {
-      path = hlod::makeCameraPath(kind, sk);
-    }
-    if (path && settings.path.contains("duration"))
-      path = hlod::withDuration(*path, settings.path["duration"].get<double>());
+  if (spec.kind == "orbit" && settings.render.camera) {
+    const double aspect = double(settings.render.width) / settings.render.height;
+    path = hlod::makeOrbitPathFrom(scene.defaultCamera(aspect, settings.render.camera), sk.up);
   } else {
-    path = hlod::CameraPath::parse(settings.path.dump());
+    path = hlod::makeCameraPath(spec.kind, sk);
   }
+  if (path && spec.duration) path = hlod::withDuration(*path, *spec.duration);
   if (!path) return badRequest("path: " + path.message());
-  return std::make_shared<hlod::CameraPath>(std::move(*path));
+  return std::make_shared<const hlod::CameraPath>(std::move(*path));
 }
 
 ApiResult<std::shared_ptr<Job>> JobManager::admitJob(std::shared_ptr<Job> job) {
@@ -403,7 +399,7 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
   auto admitted = admitJob(std::move(made));
   if (!admitted) return admitted.error();
   std::shared_ptr<Job> job = *admitted;
-  std::shared_ptr<hlod::CameraPath> shared = *path;
+  std::shared_ptr<const hlod::CameraPath> shared = *path;
   leastBusyRunner()->post([this, job, shared](renderer::GlContext& gl) {
     if (job->cancel) {
       job->setState(JobState::Cancelled);
@@ -434,7 +430,7 @@ ApiResult<nlohmann::json> JobManager::submitStudy(const std::shared_ptr<Scene>& 
   auto admitted = admitJob(std::move(made));
   if (!admitted) return admitted.error();
   std::shared_ptr<Job> job = *admitted;
-  std::shared_ptr<hlod::CameraPath> shared = *path;
+  std::shared_ptr<const hlod::CameraPath> shared = *path;
   leastBusyRunner()->post([job, shared](renderer::GlContext& gl) {
     if (job->cancel) {
       job->setState(JobState::Cancelled);

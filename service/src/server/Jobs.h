@@ -40,7 +40,7 @@ struct JobSettings {
   long long frames = -1;  // render only the first N; < 0: all
   bool video = false;
   bool prefetch = false;
-  nlohmann::json path;  // as given: {"kind": ...} or {"keyframes": [...]}
+  PathSpec path;
 };
 
 struct JobLimits {
@@ -147,7 +147,8 @@ class JobManager {
   void restoreAll();
   // Gives the job its id and folder and publishes it; 429 past --max-jobs.
   ApiResult<std::shared_ptr<Job>> admitJob(std::shared_ptr<Job> job);
-  ApiResult<std::shared_ptr<hlod::CameraPath>> pathOf(const Scene& scene, const JobSettings& s);
+  ApiResult<std::shared_ptr<const hlod::CameraPath>> pathOf(const Scene& scene,
+                                                            const JobSettings& s);
   RenderWorker* leastBusyRunner() const;
 
   std::vector<RenderWorker*> runners_;

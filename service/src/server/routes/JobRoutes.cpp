@@ -134,11 +134,12 @@ void installJobRoutes(httplib::Server& http, ApiContext& api) {
     choice->applyTo(*render);
     JobSettings s;
     s.render = *render;
-    auto fps = in->number("fps", 30.0, 1.0, 240.0);
-    auto mode = in->choice("mode", "realtime", {"realtime", "settled"});
-    auto video = in->boolean("video", false);
-    auto frames = in->integer("frames", -1, 1, 100000000);
-    auto prefetch = in->boolean("prefetch", false);
+    using settings::get;
+    auto fps = in->number(get("fps"));
+    auto mode = in->choice(get("mode"));
+    auto video = in->boolean(get("video"));
+    auto frames = in->integer(get("frames"));
+    auto prefetch = in->boolean(get("prefetch"));
     if (!fps) return sendError(res, badRequest(fps.message()));
     if (!mode) return sendError(res, badRequest(mode.message()));
     if (!video) return sendError(res, badRequest(video.message()));
@@ -147,7 +148,7 @@ void installJobRoutes(httplib::Server& http, ApiContext& api) {
     s.fps = *fps;
     s.mode = *mode == "settled" ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime;
     s.video = *video;
-    s.frames = *frames;
+    s.frames = in->has("frames") ? *frames : -1;
     s.prefetch = *prefetch;
     auto spec = readPathSpec(*in);
     if (!spec) return sendError(res, spec.error());

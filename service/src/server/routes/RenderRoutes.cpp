@@ -22,7 +22,7 @@ void installRenderRoutes(httplib::Server& http, ApiContext& api) {
     choice->applyTo(*settings);
     auto image = readImageRequest(*in);
     if (!image) return sendError(res, image.error());
-    auto mode = in->choice("mode", "settled", {"settled", "realtime"});
+    auto mode = in->choice(settings::get("frameMode"));
     if (!mode) return sendError(res, badRequest(mode.message()));
     hlod::Camera camera =
         scene->defaultCamera(double(settings->width) / settings->height, settings->camera);

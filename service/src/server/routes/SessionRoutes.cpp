@@ -34,7 +34,7 @@ void installSessionRoutes(httplib::Server& http, ApiContext& api) {
     if (!jsonBody(req, res)) return;
     auto in = JsonInput::parse(req.body, {"camera", "still", "format", "quality"});
     if (!in) return sendError(res, badRequest(in.message()));
-    auto still = in->boolean("still", false);
+    auto still = in->boolean(settings::get("still"));
     if (!still) return sendError(res, badRequest(still.message()));
     auto image = readImageRequest(*in);
     if (!image) return sendError(res, image.error());

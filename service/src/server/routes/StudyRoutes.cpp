@@ -17,32 +17,25 @@ void installStudyRoutes(httplib::Server& http, ApiContext& api) {
     if (!id) return sendError(res, badRequest(id.message()));
     auto scene = api.scenes.find(*id);
     if (!scene) return sendError(res, notFound("no scene '" + *id + "'"));
+    using settings::get;
     StudyOptions o;
-    auto budgets = numbers(*in, "budgets", o.budgets, 1.0, 10000.0);
-    auto sse = numbers(*in, "ssePx", o.ssePx, 0.1, 1000.0);
-    auto w = in->integer("width", 640, 16, api.maxSize);
-    auto h = in->integer("height", 360, 16, api.maxSize);
-    auto frames = in->integer("frames", 24, 1, 1000);
-    auto fps = in->number("fps", 30.0, 1.0, 240.0);
-    auto strips = in->integer("strips", 3, 0, 10);
-    auto mode = in->choice("mode", "settled", {"settled", "realtime", "both"});
-    for (const auto* r : {&budgets, &sse})
-      if (!*r) return sendError(res, r->error());
+    auto budgets = in->numbers(get("study.budgets"));
+    auto sse = in->numbers(get("study.ssePx"));
+    auto selectors = in->choices(get("study.selectors"));
+    auto w = in->integer(get("width"), api.maxSize);
+    auto h = in->integer(get("height"), api.maxSize);
+    auto frames = in->integer(get("study.frames"));
+    auto fps = in->number(get("fps"));
+    auto strips = in->integer(get("study.strips"));
+    auto mode = in->choice(get("study.mode"));
+    if (!budgets) return sendError(res, badRequest(budgets.message()));
+    if (!sse) return sendError(res, badRequest(sse.message()));
+    if (!selectors) return sendError(res, badRequest(selectors.message()));
     for (const auto* r : {&w, &h, &frames, &strips})
       if (!*r) return sendError(res, badRequest(r->message()));
     if (!fps) return sendError(res, badRequest(fps.message()));
     if (!mode) return sendError(res, badRequest(mode.message()));
-    if (in->has("selectors")) {
-      const auto& v = in->json()["selectors"];
-      o.selectors.clear();
-      if (!v.is_array() || v.empty() || v.size() > 3)
-        return sendError(res, badRequest("selectors: must be a list of lakhia, sse, fs"));
-      for (const auto& x : v) {
-        if (!x.is_string() || (x != "lakhia" && x != "sse" && x != "fs"))
-          return sendError(res, badRequest("selectors: must be a list of lakhia, sse, fs"));
-        o.selectors.push_back(x.get<std::string>());
-      }
-    }
+    o.selectors = *selectors;
     o.budgets = *budgets;
     o.ssePx = *sse;
     o.width = int(*w);
