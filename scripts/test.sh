@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs the whole test suite (unit, GL, hard cases, service,
 # fuzz corpora and browser tests); then the same suite, less the browser test, built with ASan +
-# UBSan (build-asan/), and a fuzz smoke of 20 s per target. CI runs all of it.
+# UBSan (build-asan/), the service tests built with ThreadSanitizer (build-tsan/), and a fuzz
+# smoke of 20 s per target. CI runs all of it.
 #   scripts/test.sh            everything
 #   scripts/test.sh --quick    the gcc build and suite only (for developers)
 set -euo pipefail
@@ -25,5 +26,9 @@ scripts/build.sh --sanitize
 # The browser test is left out here: it drives the page in Chromium, and the gcc suite runs it.
 (. scripts/sanitize-env.sh &&
   ctest --test-dir build-asan --output-on-failure -j"$(nproc)" --timeout 900 -LE web)
+echo "test: the service tests built with ThreadSanitizer (clang)"
+scripts/build.sh --tsan
+(. scripts/sanitize-env.sh && ctest --test-dir build-tsan --output-on-failure -j"$(nproc)" \
+  --timeout 900 -L service)
 echo "test: fuzz smoke, 20 s per target"
 scripts/fuzz.sh 20
