@@ -1,6 +1,6 @@
 // Mesh import of OFF, STL, OBJ and glTF, and loadImage: hand-made files with exact expectations,
 // and broken files that must give an Error naming the file (never a crash).
-#include "hlod/import/ImageWriter.h"
+#include "hlod/export/ImageWriter.h"
 #include "hlod/import/Import.h"
 
 #include <gtest/gtest.h>

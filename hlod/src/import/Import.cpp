@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "hlod/builder/HlodBuilder.h"
+#include "builder/ImageResize.h"
 #include "hlod/import/InsideFolder.h"
 #include "import/ImportUtil.h"
 
