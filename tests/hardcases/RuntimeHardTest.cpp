@@ -203,6 +203,8 @@ TEST_F(RuntimeHard, AFullDiskLeavesNoTornFrameOrEmptyStats) {
       auto img = hlod::loadImage(e.path());
       EXPECT_TRUE(img.ok()) << name << " is torn: " << img.message();
     }
-    if (name == "stats.json") EXPECT_GT(fs::file_size(e.path()), 0u) << name;
+    if (name == "stats.json") {
+      EXPECT_GT(fs::file_size(e.path()), 0u) << name;
+    }
   }
 }
