@@ -55,10 +55,15 @@ const Named* find(std::string_view name) {
   return nullptr;
 }
 
-std::string rangeText(const Named& n) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g..%g", n.lo, n.hi);
+// Shortest readable: 1.5, not 1.500000.
+std::string numberText(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
+}
+
+std::string rangeText(const Named& n) {
+  return numberText(n.lo) + ".." + numberText(n.hi);
 }
 
 }  // namespace
@@ -81,7 +86,7 @@ Status setSelectorParam(SelectorParams& params, std::string_view name, double va
   if (!std::isfinite(value) || value < n->lo || value > n->hi ||
       (whole && value != std::trunc(value)))
     return makeError("parameter " + std::string(name) + ": " +
-                     (std::isfinite(value) ? std::to_string(value).substr(0, 12) : "not finite") +
+                     (std::isfinite(value) ? numberText(value) : "not finite") +
                      " is outside its range " + rangeText(*n) + (whole ? " (a whole number)" : ""));
   if (n->member) {
     params.lakhia.*n->member = value;
