@@ -92,6 +92,19 @@ class OpenMeshSimplifier final : public Simplifier {
       if (!om.add_face(handleOf(a), handleOf(b), handleOf(c)).is_valid())
         rejected.insert(rejected.end(), {a, b, c});
     }
+    // The copies meet along a cut that OpenMesh sees as a border: the copies and the vertices
+    // on the cut stay, so that both sides of it keep the same edges and close again in the
+    // output (a collapse on one side only opened a crack).
+    for (std::size_t i = 0; i < copies.size(); ++i) {
+      if (copies[i].empty()) continue;
+      std::vector<OmMesh::VertexHandle> split = copies[i];
+      split.push_back(vh[i]);
+      for (const OmMesh::VertexHandle v : split) {
+        om.status(v).set_locked(true);
+        for (const OmMesh::VertexHandle n : om.vv_range(v))
+          if (om.is_boundary(n)) om.status(n).set_locked(true);
+      }
+    }
     om.update_face_normals();
 
     OpenMesh::Decimater::DecimaterT<OmMesh> decimater(om);
