@@ -8,6 +8,7 @@
 
 #include "cmd/Commands.h"
 #include "cmd/SceneArgs.h"
+#include "cmd/SessionArgs.h"
 #include "hlod/runtime/CameraPath.h"
 #include "hlod/store/NodeStore.h"
 #include "service/Args.h"
@@ -126,37 +127,23 @@ int runRenderPath(const Argv& argv) {
     return 2;
   }
   using settings::get;
-  SessionOptions so;
-  auto size = args->size(get("size"));
-  if (!size) return usageError("render", size.message());
-  so.width = size->width;
-  so.height = size->height;
-  auto budget = args->number(get("budgetMs"));
-  auto memory = args->number(get("memoryMb"));
+  auto session0 = sessionFromArgs(*args);
+  if (!session0) return usageError("render", session0.message());
+  SessionOptions so = *session0;
   auto fps = args->number(get("fps"));
   auto ioMbps = args->number(get("ioMbps"));
   auto ioLatency = args->number(get("ioLatencyMs"));
   auto frames = args->integer(get("frames"));
   auto ioRequests = args->integer(get("ioRequests"));
   auto uploadMs = args->number(get("uploadMs"));
-  for (const auto* r : {&budget, &memory, &fps, &ioMbps, &ioLatency, &uploadMs})
+  for (const auto* r : {&fps, &ioMbps, &ioLatency, &uploadMs})
     if (!*r) return usageError("render", r->message());
   for (const auto* r : {&frames, &ioRequests})
     if (!*r) return usageError("render", r->message());
-  so.budgetMs = *budget;
-  so.memoryCapBytes = static_cast<std::uint64_t>(*memory * 1024.0 * 1024.0);
   so.ioMbps = *ioMbps;
   so.ioLatencyMs = *ioLatency;
   so.ioRequests = static_cast<std::size_t>(*ioRequests);
   so.uploadBudgetMs = *uploadMs;
-  if (auto p = hlod::setSelectorParams(so.selectorParams, args->get("params", "")); !p)
-    return usageError("render", "--params: " + p.message());
-  auto splats = args->choice(get("splats"));
-  if (!splats) return usageError("render", splats.message());
-  if (args->has("splats")) so.selectorParams.splats = *splats == "on";
-  auto selector = args->choice(get("selector"));
-  if (!selector) return usageError("render", selector.message());
-  so.selector = *selector;
   auto mode = args->choice(get("mode"));
   if (!mode) return usageError("render", mode.message());
   so.effects = declared->scene.effects;

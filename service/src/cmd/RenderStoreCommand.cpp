@@ -5,6 +5,7 @@
 
 #include "cmd/Commands.h"
 #include "cmd/SceneArgs.h"
+#include "cmd/SessionArgs.h"
 #include "hlod/store/NodeStore.h"
 #include "renderer/Renderer.h"
 #include "service/SceneLoading.h"
@@ -25,28 +26,12 @@ int runRenderStoreFrame(const Argv& argv) {
   for (const char* o : {"up", "lod"})
     if (args->has(o)) return usageError("render", std::string("--") + o + " is for a model file");
   using settings::get;
-  SessionOptions so;
-  auto size = args->size(get("size"));
-  if (!size) return usageError("render", size.message());
-  so.width = size->width;
-  so.height = size->height;
+  auto so = sessionFromArgs(*args);
+  if (!so) return usageError("render", so.message());
   auto fov = args->number(get("fov"));
-  auto budget = args->number(get("budgetMs"));
-  auto memory = args->number(get("memoryMb"));
-  for (const auto* r : {&fov, &budget, &memory})
-    if (!*r) return usageError("render", r->message());
-  auto selector = args->choice(get("selector"));
-  if (!selector) return usageError("render", selector.message());
+  if (!fov) return usageError("render", fov.message());
   auto mode = args->choice(get("frameMode"));
   if (!mode) return usageError("render", mode.message());
-  so.budgetMs = *budget;
-  so.memoryCapBytes = static_cast<std::uint64_t>(*memory * 1048576.0);
-  so.selector = *selector;
-  if (auto p = hlod::setSelectorParams(so.selectorParams, args->get("params", "")); !p)
-    return usageError("render", "--params: " + p.message());
-  auto splats = args->choice(get("splats"));
-  if (!splats) return usageError("render", splats.message());
-  if (args->has("splats")) so.selectorParams.splats = *splats == "on";
   hlod::Result<std::array<double, 6>> cameraValues = std::array<double, 6>{};
   if (auto c = args->get("camera")) cameraValues = parseCamera(*c);
   if (!cameraValues) return usageError("render", cameraValues.message());
@@ -64,9 +49,9 @@ int runRenderStoreFrame(const Argv& argv) {
   // The default sun stands above the store's up axis, as for `hlodr render MODEL`.
   declared = sceneFromArgs(*args, hlod::upVector(sk.up));
   if (!declared) return usageError("render", declared.message());
-  so.effects = declared->scene.effects;
+  so->effects = declared->scene.effects;
 
-  const double aspect = double(so.width) / so.height;
+  const double aspect = double(so->width) / so->height;
   hlod::Camera camera = storeCamera(sk, *fov, aspect);
   if (args->has("camera")) {
     const std::array<double, 6>& v = *cameraValues;
@@ -81,7 +66,7 @@ int runRenderStoreFrame(const Argv& argv) {
   }
 
   auto session =
-      Session::create(std::shared_ptr<const hlod::NodeSource>(std::move(*opened)), so, *backend);
+      Session::create(std::shared_ptr<const hlod::NodeSource>(std::move(*opened)), *so, *backend);
   if (!session) return commandError("render", session.message());
   if (!args->has("quiet"))
     std::fprintf(stderr, "%s\n", renderer::describe((*session)->contextInfo()).c_str());
@@ -100,9 +85,9 @@ int runRenderStoreFrame(const Argv& argv) {
   std::printf(
       "%s: %s frame, %.2f ms of the %.1f ms budget (estimated %.2f), %llu triangles, "
       "nodes per level [%s] (%dx%d)\n",
-      out.c_str(), *mode == "settled" ? "settled" : "realtime", rec->gpuMs, so.budgetMs,
-      rec->estimatedMs, static_cast<unsigned long long>(rec->triangles), levels.c_str(), so.width,
-      so.height);
+      out.c_str(), *mode == "settled" ? "settled" : "realtime", rec->gpuMs, so->budgetMs,
+      rec->estimatedMs, static_cast<unsigned long long>(rec->triangles), levels.c_str(), so->width,
+      so->height);
   // A node that failed to load was drawn coarser: fail as a path run does.
   if (const std::string failure = (*session)->loadFailure(); !failure.empty())
     return commandError("render", failure);
