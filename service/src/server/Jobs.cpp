@@ -6,6 +6,7 @@
 #include <limits>
 #include <tuple>
 
+#include "hlod/AtomicFile.h"
 #include "hlod/runtime/PathRun.h"
 #include "renderer/VideoWriter.h"
 #include "server/SessionManager.h"
@@ -258,16 +259,9 @@ void Job::saveRecord() const {
                                  {"videoReady", videoReady_.load()},
                                  {"framesTotal", framesTotal},
                                  {"sequence", sequence}};
+  // Whole or not at all (a full disk leaves the last record standing); one writer at a time.
   std::lock_guard lock(recordMutex_);
-  // Written whole, then renamed over the last one: a record is never half written.
-  const fs::path tmp = dir / "job.json.tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << record.dump(1) << "\n";
-    if (!out) return;  // a full disk: the last record stands
-  }
-  std::error_code ec;
-  fs::rename(tmp, dir / "job.json", ec);
+  [[maybe_unused]] const auto written = hlod::writeFileAtomically(dir / "job.json", record.dump(1));
 }
 
 hlod::Result<std::shared_ptr<Job>> Job::restore(const fs::path& dir) {
