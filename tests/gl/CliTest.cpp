@@ -24,6 +24,17 @@ gltest::Run hlodr(const std::string& args, const std::string& env = "") {
   return gltest::runHlodr(args, env);
 }
 
+// Pixels that differ from the default background: where geometry is.
+int coveredPixels(const hlod::Image& img) {
+  int covered = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const auto p = gltest::pixel(img, x, y);
+      covered += std::abs(p.r - 179) + std::abs(p.g - 204) + std::abs(p.b - 230) > 30;
+    }
+  return covered;
+}
+
 class HlodrCli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -137,14 +148,16 @@ TEST_F(HlodrCli, RendersOneBudgetBoundFrameOfAStoreWithoutAPath) {
   auto img = hlod::loadImage(path("f.png"));
   ASSERT_TRUE(img);
   EXPECT_EQ(img->width, 160);
-  // The city fills part of the frame: many pixels differ from the background.
-  int covered = 0;
-  for (int y = 0; y < img->height; ++y)
-    for (int x = 0; x < img->width; ++x) {
-      const auto p = gltest::pixel(*img, x, y);
-      covered += std::abs(p.r - 179) + std::abs(p.g - 204) + std::abs(p.b - 230) > 30;
-    }
-  EXPECT_GT(covered, img->width * img->height / 25);
+  // The city is in view (this one-block strip covers about 4% of the frame), and the budget's
+  // frame covers what every leaf drawn (--selector full) covers: no hole, no missing block.
+  const auto full = hlodr("render " + path("c.hlod") + " --selector full --size 160x90 -o " +
+                          path("full.png") + " --quiet");
+  ASSERT_EQ(full.status, 0) << full.output;
+  auto fullImg = hlod::loadImage(path("full.png"));
+  ASSERT_TRUE(fullImg);
+  const int covered = coveredPixels(*img), fullCovered = coveredPixels(*fullImg);
+  EXPECT_GT(fullCovered, img->width * img->height / 50);
+  EXPECT_GT(covered, fullCovered * 9 / 10);
   // From a camera of its own: another frame.
   const auto at =
       hlodr("render " + path("c.hlod") + " --camera 0,-50,30,40,40,0 --size 160x90 -o " +
@@ -177,12 +190,7 @@ TEST_F(HlodrCli, GeneratesAndRendersASmallCity) {
   // Geometry covers a good part of the frame: many pixels differ from the background. The
   // default view frames the bounding sphere (hlod::frameBounds), which for this flat city two
   // blocks long leaves about 6% of the pixels covered (framing the box's corners gave over 10%).
-  int covered = 0;
-  for (int y = 0; y < img->height; ++y)
-    for (int x = 0; x < img->width; ++x) {
-      const auto p = gltest::pixel(*img, x, y);
-      covered += std::abs(p.r - 179) + std::abs(p.g - 204) + std::abs(p.b - 230) > 30;
-    }
+  const int covered = coveredPixels(*img);
   EXPECT_GT(covered, img->width * img->height / 25);
 }
 

@@ -256,12 +256,7 @@ TEST_F(ServerTest, TooManyJobsAnswers429WithRetryAfter) {
 }
 
 TEST_F(ServerTest, APathWithANulIsRefusedNotServedAsAnotherFile) {
-  service::ServerOptions o;
-  const fs::path web = webDir();
-  fs::create_directories(web);
-  std::ofstream(web / "index.html") << "<!doctype html><title>hlodr</title>";
-  o.webDir = web;
-  start(o);
+  startWithPage();
   auto r = client().Get("/index.html%00.js");
   EXPECT_EQ(r->status, 400) << r->get_header_value("Content-Type");
   EXPECT_EQ(r->body.find("<title>"), std::string::npos);

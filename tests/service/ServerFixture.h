@@ -133,6 +133,14 @@ class ServerTest : public ::testing::Test {
     port = *p;
     thread = std::thread([this] { server->run(); });
   }
+  // Starts with a page of its own (an index.html with the title hlodr) served at the root.
+  void startWithPage(service::ServerOptions o = {}) {
+    const fs::path web = webDir();
+    fs::create_directories(web);
+    std::ofstream(web / "index.html") << "<!doctype html><title>hlodr</title>";
+    o.webDir = web;
+    start(o);
+  }
   void stop() {
     if (server) server->stop();
     if (thread.joinable()) thread.join();

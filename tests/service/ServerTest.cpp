@@ -587,12 +587,7 @@ TEST_F(ServerTest, StopCancelsRunningJobsAndTheyCloseTheirVideoAndStats) {
 }
 
 TEST_F(ServerTest, ThePageIsServedAtTheRoot) {
-  service::ServerOptions o;
-  const fs::path web = webDir();
-  fs::create_directories(web);
-  std::ofstream(web / "index.html") << "<!doctype html><title>hlodr</title>";
-  o.webDir = web;
-  start(o);
+  startWithPage();
   auto r = client().Get("/");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 200);
