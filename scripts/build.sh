@@ -4,6 +4,8 @@
 #   scripts/build.sh --sanitize  clang with AddressSanitizer + UndefinedBehaviorSanitizer and the
 #                                libFuzzer targets, into build-asan/ (tests, no benchmarks;
 #                                asserts on)
+#   scripts/build.sh --tsan      clang with ThreadSanitizer, into build-tsan/: the service tests
+#                                only (hlodr_service_tests, asserts on)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -16,6 +18,16 @@ if [ "${1:-}" = "--sanitize" ]; then
     -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
     -DHLODR_SANITIZE=ON -DHLODR_BUILD_BENCHES=OFF >/dev/null
   cmake --build build-asan -j"$(nproc)"
+  exit 0
+fi
+if [ "${1:-}" = "--tsan" ]; then
+  # The service tests alone: their threads (HTTP, render workers, job runners, loaders) are what
+  # ThreadSanitizer checks, and a unity build of what they link keeps it short.
+  cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE= -DHLODR_WERROR=ON -DCMAKE_UNITY_BUILD=ON \
+    -DCMAKE_C_FLAGS="-O1 -gline-tables-only" -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" \
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+    -DHLODR_TSAN=ON -DHLODR_BUILD_BENCHES=OFF >/dev/null
+  cmake --build build-tsan -j"$(nproc)" --target hlodr_service_tests
   exit 0
 fi
 # Under CI (a clean clone, built once) a unity build too: 8 sources per compiler run took the

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs the whole test suite (unit, GL, hard cases, service,
 # fuzz corpora and browser tests); then the same suite, less the browser test, built with ASan +
-# UBSan (build-asan/), and a fuzz smoke of 20 s per target. CI runs all of it.
+# UBSan (build-asan/), the service tests built with ThreadSanitizer (build-tsan/), and a fuzz
+# smoke of 20 s per target. CI runs all of it.
 #   scripts/test.sh            everything
 #   scripts/test.sh --quick    the gcc build and suite only (for developers)
 set -euo pipefail
@@ -28,5 +29,9 @@ scripts/build.sh --sanitize
 # The browser tests are left out here: they drive Chromium, and the gcc suite runs them.
 (. scripts/sanitize-env.sh &&
   ctest --test-dir build-asan --output-on-failure -j"$(nproc)" --timeout 900 -LE 'web|tiles')
+echo "test: the service tests built with ThreadSanitizer (clang)"
+scripts/build.sh --tsan
+(. scripts/sanitize-env.sh && ctest --test-dir build-tsan --output-on-failure -j"$(nproc)" \
+  --timeout 900 -L service)
 echo "test: fuzz smoke, 20 s per target"
 scripts/fuzz.sh 20

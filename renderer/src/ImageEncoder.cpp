@@ -2,6 +2,8 @@
 // CRC-32) written on libdeflate, and JPEG through libjpeg-turbo's TurboJPEG API.
 #include "renderer/ImageEncoder.h"
 
+#include "hlod/AtomicFile.h"
+
 #include <turbojpeg.h>
 
 #include <algorithm>
@@ -108,14 +110,9 @@ const char* mimeType(ImageFormat format) {
 }
 
 hlod::Status writeBytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) return hlod::makeError("cannot create " + path + ": " + std::strerror(errno));
-  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  const bool flushed = std::fflush(f) == 0;
-  const bool closed = std::fclose(f) == 0;
-  if (!written || !flushed || !closed)
-    return hlod::makeError("cannot write " + path + " (disk full?)");
-  return hlod::Ok{};
+  // Whole or not at all: a full disk leaves no torn frame behind.
+  return hlod::writeFileAtomically(
+      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 }  // namespace renderer

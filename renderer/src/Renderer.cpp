@@ -213,6 +213,22 @@ hlod::Status Renderer::initPostTargets() {
   return complete(g, "ssao blur");
 }
 
+std::uint64_t Renderer::targetBytes(const RenderOptions& options) {
+  const auto pixels =
+      std::uint64_t(std::max(0, options.width)) * std::uint64_t(std::max(0, options.height));
+  const std::vector<Pass> passes = passesFor(options.effects);
+  const auto has = [&](Pass p) {
+    return std::find(passes.begin(), passes.end(), p) != passes.end();
+  };
+  std::uint64_t bytes = pixels * (4 + 4);          // RGBA8 colour, 32-bit float depth
+  if (has(Pass::Ssao)) bytes += pixels * (1 + 1);  // R8 occlusion and its blur
+  if (has(Pass::Shadow)) {
+    const auto res = std::uint64_t(std::max(0, options.effects.shadows->resolution));
+    bytes += res * res * 4;  // 32-bit float shadow map
+  }
+  return bytes;
+}
+
 ResourceCounts Renderer::resources() const {
   ResourceCounts c;
   for (const GlObject* o :

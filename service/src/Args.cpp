@@ -1,11 +1,23 @@
 #include "service/Args.h"
 
+#include <algorithm>
+#include <cassert>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
 namespace service {
+
+namespace {
+
+std::string joinedChoices(const std::vector<std::string>& choices) {
+  std::string out;
+  for (const auto& c : choices) out += (out.empty() ? "" : ", ") + c;
+  return out;
+}
+
+}  // namespace
 
 hlod::Result<Args> Args::parse(const std::vector<std::string>& argv,
                                const std::set<std::string>& flags,
@@ -67,9 +79,11 @@ hlod::Result<double> Args::number(const std::string& name, double fallback, doub
   const double x = std::strtod(v->c_str(), &end);
   if (v->empty() || *end != '\0' || errno != 0 || !std::isfinite(x))
     return hlod::makeError("--" + name + ": '" + *v + "' is not a number");
-  if (x < lo || x > hi)
-    return hlod::makeError("--" + name + ": " + *v + " is outside [" + std::to_string(lo) + ", " +
-                           std::to_string(hi) + "]");
+  if (x < lo || x > hi) {
+    char range[64];
+    std::snprintf(range, sizeof range, "[%g, %g]", lo, hi);
+    return hlod::makeError("--" + name + ": " + *v + " is outside " + range);
+  }
   return x;
 }
 
@@ -107,6 +121,58 @@ hlod::Result<Args::Size> Args::size(const std::string& name, const std::string& 
       out.width < lo || out.height < lo || out.width > hi || out.height > hi) {
     return hlod::makeError("--" + name + " must look like " + fallback + " (" + std::to_string(lo) +
                            ".." + std::to_string(hi) + " each side), not '" + v + "'");
+  }
+  return out;
+}
+
+hlod::Result<double> Args::number(const Setting& s) const {
+  assert(s.kind == Setting::Kind::Number);
+  return number(s.cli, s.fallbackNumber(), s.lo, s.hi);
+}
+
+hlod::Result<long long> Args::integer(const Setting& s) const {
+  assert(s.kind == Setting::Kind::Integer);
+  return integer(s.cli, static_cast<long long>(s.fallbackNumber()), static_cast<long long>(s.lo),
+                 static_cast<long long>(s.hi));
+}
+
+hlod::Result<std::string> Args::choice(const Setting& s) const {
+  assert(s.kind == Setting::Kind::Choice);
+  const std::string v = get(s.cli, s.fallback);
+  for (const std::string& c : s.choices)
+    if (v == c) return v;
+  return hlod::makeError("--" + s.cli + " must be " + s.range() + " (not '" + v + "')");
+}
+
+hlod::Result<Args::Size> Args::size(const Setting& s) const {
+  assert(s.kind == Setting::Kind::Size);
+  return size(s.cli, s.fallback, int(s.lo), int(s.hi));
+}
+
+hlod::Result<std::vector<double>> Args::numbers(const Setting& s) const {
+  assert(s.kind == Setting::Kind::NumberList);
+  const std::string list = get(s.cli, s.fallback);
+  std::vector<double> out;
+  for (const std::string& item : splitList(list)) {
+    errno = 0;
+    char* stop = nullptr;
+    const double v = std::strtod(item.c_str(), &stop);
+    if (item.empty() || *stop != '\0' || errno != 0 || !std::isfinite(v) || v < s.lo || v > s.hi ||
+        out.size() == 16)
+      return hlod::makeError("--" + s.cli + ": '" + list + "' is not " + s.range());
+    out.push_back(v);
+  }
+  return out;
+}
+
+hlod::Result<std::vector<std::string>> Args::choices(const Setting& s) const {
+  assert(s.kind == Setting::Kind::ChoiceList);
+  std::vector<std::string> out;
+  for (const std::string& item : splitList(get(s.cli, s.fallback))) {
+    if (std::find(s.choices.begin(), s.choices.end(), item) == s.choices.end())
+      return hlod::makeError("--" + s.cli + ": '" + item + "' is not one of " +
+                             joinedChoices(s.choices));
+    out.push_back(item);
   }
   return out;
 }

@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "cmd/Commands.h"
+#include "service/Settings.h"
 
 #ifndef HLODR_VERSION
 #define HLODR_VERSION "dev"
@@ -42,7 +43,9 @@ static void printHelp() {
   std::printf("hlodr %s: headless HLOD rendering of huge models\n\nusage: hlodr COMMAND [ARGS]\n\n",
               HLODR_VERSION);
   for (const auto& c : commands()) std::printf("  %-14s %s\n", c.name, c.summary);
-  std::printf("\n`hlodr help COMMAND` or `hlodr COMMAND --help` shows a command's options.\n");
+  std::printf(
+      "\n`hlodr help COMMAND` or `hlodr COMMAND --help` shows a command's options;\n"
+      "`hlodr help settings` every setting's range, default and meaning.\n");
 }
 
 int runCli(int argc, char** argv) {
@@ -61,6 +64,12 @@ int runCli(int argc, char** argv) {
       printHelp();
       return 0;
     }
+    if (args[0] == "settings") {
+      const bool markdown = args.size() > 1 && args[1] == "--markdown";
+      const std::string which = args.size() > 2 ? args[2] : "all";
+      std::printf("%s", markdown ? settingsMarkdown(which).c_str() : settingsText().c_str());
+      return 0;
+    }
     name = args[0];
     args = {"--help"};
   }
@@ -68,7 +77,7 @@ int runCli(int argc, char** argv) {
     if (name != c.name) continue;
     for (const auto& a : args) {
       if (a == "--help" || a == "-h") {
-        std::printf("%s", c.usage);
+        std::printf("%s", expandUsage(c.usage).c_str());
         return 0;
       }
     }

@@ -54,6 +54,19 @@ CameraPose defaultCamera(const hlod::Aabb& bounds, hlod::UpAxis up, double fovY,
   return cam;
 }
 
+hlod::Camera storeCamera(const hlod::Skeleton& skeleton, double fovY, double aspect) {
+  hlod::Aabb bounds;
+  for (std::uint32_t r : skeleton.roots) bounds.extend(skeleton.nodes[r].bounds);
+  const CameraPose pose = defaultCamera(bounds, skeleton.up, fovY, aspect);
+  hlod::Camera c;
+  c.position = pose.position;
+  c.target = pose.target;
+  c.up = pose.up;
+  c.fovY = pose.fovY;
+  c.aspect = aspect;
+  return c;
+}
+
 void clipPlanes(const CameraPose& camera, const hlod::Aabb& bounds, double& zNear, double& zFar) {
   renderer::clipPlanesFor(camera.position, bounds, zNear, zFar);
 }

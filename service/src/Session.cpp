@@ -129,6 +129,14 @@ hlod::Status Session::init(renderer::GlContext& context) {
   return driver_->start(options_.knownVTime);
 }
 
+std::string Session::loadFailure() const {
+  const hlod::LoaderCounters lc = loader_->counters();
+  if (lc.loadErrors == 0) return "";
+  return std::to_string(lc.loadErrors) +
+         " node(s) of the store failed to load and were drawn coarser (last: " +
+         loader_->lastError() + "); the store is damaged, rebuild it with `hlodr build`";
+}
+
 Session::~Session() {
   if (loader_) loader_->stop();
   // GL objects are deleted through the context: it must be current while they die.

@@ -1,6 +1,7 @@
 // The HTTP service's request bodies, without sockets: the first byte picks the endpoint (POST
 // /api/render, /api/sessions, /api/sessions/ID/frame, /api/jobs, /api/studies), the rest is the
-// body, read with the same fields and in the same order as server/HttpApi.cpp reads it. Every
+// body, read with the same fields and in the same order as server/routes/ read it (by the
+// settings table, service/Settings.h). Every
 // body must give a validated request or a 400 naming the problem; what validated must be in the
 // ranges the workers rely on (finite cameras, sizes and budgets in range, a path that parses).
 #include <cmath>
@@ -50,11 +51,17 @@ void sceneChoice(const JsonInput& in) {
   check(!choice);  // no store here
 }
 
+// In the table's range.
+bool within(double v, const char* id) {
+  const service::Setting& s = service::settings::get(id);
+  return v >= s.lo && v <= s.hi;
+}
+
 bool settings(const JsonInput& in, bool memory) {
   auto s = service::server::readRenderSettings(in, kMaxSize, memory);
   if (!s) return false;
   check(s->width >= 16 && s->width <= kMaxSize && s->height >= 16 && s->height <= kMaxSize &&
-        s->budgetMs >= 1.0 && s->budgetMs <= 10000.0 && s->ssePx >= 0.1 && s->ssePx <= 1000.0);
+        within(s->budgetMs, "budgetMs") && within(s->ssePx, "ssePx"));
   return true;
 }
 
@@ -69,12 +76,11 @@ bool image(const JsonInput& in) {
 void path(const JsonInput& in) {
   auto spec = service::server::readPathSpec(in);
   if (!spec) return;
-  if (spec->contains("kind")) {
-    check((*spec)["kind"].is_string());
-    if (spec->contains("duration")) check((*spec)["duration"].is_number());
-    return;
-  }
-  (void)hlod::CameraPath::parse(spec->dump());
+  // Keyframes are parsed at the boundary; a generated kind is one of the three.
+  check(spec->kind.empty()
+            ? spec->keyframes != nullptr
+            : spec->kind == "walk-fly" || spec->kind == "drive" || spec->kind == "orbit");
+  if (spec->duration) check(within(*spec->duration, "duration"));
 }
 
 std::set<std::string> with(std::initializer_list<const char*> extra, bool memory) {
@@ -90,7 +96,7 @@ void render(const std::string& body) {
   if (!in) return;
   sceneChoice(*in);
   if (!settings(*in, false) || !image(*in)) return;
-  if (!in->choice("mode", "settled", {"settled", "realtime"})) return;
+  if (!in->choice(service::settings::get("frameMode"))) return;
   checkCamera(*in);
 }
 
@@ -105,7 +111,7 @@ void session(const std::string& body) {
 void frame(const std::string& body) {
   auto in = JsonInput::parse(body, {"camera", "still", "format", "quality"});
   fuzz::report("JsonInput::parse", in);
-  if (!in || !in->boolean("still", false) || !image(*in)) return;
+  if (!in || !in->boolean(service::settings::get("still")) || !image(*in)) return;
   checkCamera(*in);
 }
 
@@ -116,12 +122,13 @@ void job(const std::string& body) {
   if (!in) return;
   sceneChoice(*in);
   if (!settings(*in, true)) return;
-  auto fps = in->number("fps", 30.0, 1.0, 240.0);
-  auto frames = in->integer("frames", -1, 1, 100000000);
-  if (!fps || !in->choice("mode", "realtime", {"realtime", "settled"}) ||
-      !in->boolean("video", false) || !frames || !in->boolean("prefetch", false))
+  using service::settings::get;
+  auto fps = in->number(get("fps"));
+  auto frames = in->integer(get("frames"));
+  if (!fps || !in->choice(get("mode")) || !in->boolean(get("video")) || !frames ||
+      !in->boolean(get("prefetch")))
     return;
-  check(*fps >= 1.0 && *fps <= 240.0 && (*frames == -1 || (*frames >= 1 && *frames <= 100000000)));
+  check(within(*fps, "fps") && (!in->has("frames") || within(double(*frames), "frames")));
   path(*in);
 }
 
@@ -130,15 +137,15 @@ void study(const std::string& body) {
                                     "height", "frames", "fps", "mode", "strips"});
   fuzz::report("JsonInput::parse", in);
   if (!in || !in->string("scene", 64)) return;
-  auto budgets = service::server::numbers(*in, "budgets", {33.0}, 1.0, 10000.0);
-  auto sse = service::server::numbers(*in, "ssePx", {16.0}, 0.1, 1000.0);
-  if (!budgets || !sse) return;
-  for (double b : *budgets) check(b >= 1.0 && b <= 10000.0);
-  for (double s : *sse) check(s >= 0.1 && s <= 1000.0);
-  if (!in->integer("width", 640, 16, kMaxSize) || !in->integer("height", 360, 16, kMaxSize) ||
-      !in->integer("frames", 24, 1, 1000) || !in->number("fps", 30.0, 1.0, 240.0) ||
-      !in->integer("strips", 3, 0, 10) ||
-      !in->choice("mode", "settled", {"settled", "realtime", "both"}))
+  using service::settings::get;
+  auto budgets = in->numbers(get("study.budgets"));
+  auto sse = in->numbers(get("study.ssePx"));
+  if (!budgets || !sse || !in->choices(get("study.selectors"))) return;
+  for (double b : *budgets) check(within(b, "study.budgets"));
+  for (double s : *sse) check(within(s, "study.ssePx"));
+  if (!in->integer(get("width"), kMaxSize) || !in->integer(get("height"), kMaxSize) ||
+      !in->integer(get("study.frames")) || !in->number(get("fps")) ||
+      !in->integer(get("study.strips")) || !in->choice(get("study.mode")))
     return;
   path(*in);
 }

@@ -24,6 +24,17 @@ gltest::Run hlodr(const std::string& args, const std::string& env = "") {
   return gltest::runHlodr(args, env);
 }
 
+// Pixels that differ from the default background: where geometry is.
+int coveredPixels(const hlod::Image& img) {
+  int covered = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const auto p = gltest::pixel(img, x, y);
+      covered += std::abs(p.r - 179) + std::abs(p.g - 204) + std::abs(p.b - 230) > 30;
+    }
+  return covered;
+}
+
 class HlodrCli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -100,7 +111,7 @@ TEST_F(HlodrCli, RejectsBadOptionsWithUsageExitCode) {
   const auto huge =
       hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --size 9000x10");
   EXPECT_EQ(huge.status, 2);
-  EXPECT_NE(huge.output.find("--size must look like 1280x720 (1..8192 each side), not '9000x10'"),
+  EXPECT_NE(huge.output.find("--size must look like 1280x720 (16..8192 each side), not '9000x10'"),
             std::string::npos)
       << huge.output;
   EXPECT_EQ(hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --size big").status,
@@ -109,6 +120,57 @@ TEST_F(HlodrCli, RejectsBadOptionsWithUsageExitCode) {
       hlodr("render " + path("tetra.off") + " -o " + path("x.png") + " --camera 1,2,3").status, 2);
   EXPECT_EQ(hlodr("render " + path("tetra.off") + " --frobnicate").status, 2);
   EXPECT_EQ(hlodr("no-such-command").status, 2);
+}
+
+// A second model was ignored with exit 0 (a regression: it was a usage error before).
+TEST_F(HlodrCli, TwoModelsAreAUsageErrorNamingTheSecond) {
+  const auto r = hlodr("render " + path("tetra.off") + " /nonexistent/zzz.obj -o " + path("x.png"));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("give one MODEL, not 2 ('/nonexistent/zzz.obj' is the second)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+// `hlodr render STORE` without a path: one frame under the budget, as POST /api/render draws
+// it, from the store's framing or a --camera; what only a path run takes is refused.
+TEST_F(HlodrCli, RendersOneBudgetBoundFrameOfAStoreWithoutAPath) {
+  const auto c = hlodr("city -o " + path("city") + " --blocks 1 --texture 64 --quiet");
+  ASSERT_EQ(c.status, 0) << c.output;
+  const auto b = hlodr("build " + path("city") + " -o " + path("c.hlod") + " --quiet");
+  ASSERT_EQ(b.status, 0) << b.output;
+  const auto r =
+      hlodr("render " + path("c.hlod") + " --budget-ms 33 --mode settled --size 160x90 -o " +
+            path("f.png") + " --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("settled frame"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("of the 33.0 ms budget"), std::string::npos) << r.output;
+  auto img = hlod::loadImage(path("f.png"));
+  ASSERT_TRUE(img);
+  EXPECT_EQ(img->width, 160);
+  // The city is in view (this one-block strip covers about 4% of the frame), and the budget's
+  // frame covers what every leaf drawn (--selector full) covers: no hole, no missing block.
+  const auto full = hlodr("render " + path("c.hlod") + " --selector full --size 160x90 -o " +
+                          path("full.png") + " --quiet");
+  ASSERT_EQ(full.status, 0) << full.output;
+  auto fullImg = hlod::loadImage(path("full.png"));
+  ASSERT_TRUE(fullImg);
+  const int covered = coveredPixels(*img), fullCovered = coveredPixels(*fullImg);
+  EXPECT_GT(fullCovered, img->width * img->height / 50);
+  EXPECT_GT(covered, fullCovered * 9 / 10);
+  // From a camera of its own: another frame.
+  const auto at =
+      hlodr("render " + path("c.hlod") + " --camera 0,-50,30,40,40,0 --size 160x90 -o " +
+            path("g.png") + " --quiet");
+  ASSERT_EQ(at.status, 0) << at.output;
+  EXPECT_NE(at.output.find("settled frame"), std::string::npos);  // the default, as the API's
+  const auto fps = hlodr("render " + path("c.hlod") + " --fps 10 -o " + path("h.png"));
+  EXPECT_EQ(fps.status, 2) << fps.output;
+  EXPECT_NE(fps.output.find("--fps is for a path"), std::string::npos) << fps.output;
+  const auto budget = hlodr("render " + path("c.hlod") + " --budget-ms 0 -o " + path("h.png"));
+  EXPECT_EQ(budget.status, 2) << budget.output;
+  EXPECT_NE(budget.output.find("--budget-ms: 0 is outside [0.5, 10000]"), std::string::npos)
+      << budget.output;
 }
 
 TEST_F(HlodrCli, AForcedBackendThatDoesNotExistIsAClearError) {
@@ -128,12 +190,7 @@ TEST_F(HlodrCli, GeneratesAndRendersASmallCity) {
   // Geometry covers a good part of the frame: many pixels differ from the background. The
   // default view frames the bounding sphere (hlod::frameBounds), which for this flat city two
   // blocks long leaves about 6% of the pixels covered (framing the box's corners gave over 10%).
-  int covered = 0;
-  for (int y = 0; y < img->height; ++y)
-    for (int x = 0; x < img->width; ++x) {
-      const auto p = gltest::pixel(*img, x, y);
-      covered += std::abs(p.r - 179) + std::abs(p.g - 204) + std::abs(p.b - 230) > 30;
-    }
+  const int covered = coveredPixels(*img);
   EXPECT_GT(covered, img->width * img->height / 25);
 }
 

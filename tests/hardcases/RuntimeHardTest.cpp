@@ -14,6 +14,7 @@
 
 #include "../gl/RunHlodr.h"
 #include "../unit/RuntimeTestScene.h"
+#include "hlod/import/Import.h"
 #include "hlod/runtime/Loader.h"
 #include "hlod/store/NodeStore.h"
 
@@ -122,6 +123,17 @@ TEST_F(RuntimeHard, ACorruptLeafPayloadIsReportedAndTheRunFails) {
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("failed to load"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("rebuild"), std::string::npos) << r.output;
+  // The study measured against a reference without the leaves and exited 0; one frame of the
+  // store did not say either.
+  for (const std::string& command :
+       {"study " + store().string() + " --path " + path().string() + " -o " +
+            (dir / "study").string() + " --frames 2 --budgets 33 --selectors lakhia --strips 0",
+        "render " + store().string() + " -o " + (dir / "one.png").string() +
+            " --selector full --mode settled"}) {
+    auto s = gltest::runHlodr(command + " --quiet --size 160x90");
+    EXPECT_EQ(s.status, 1) << command << "\n" << s.output;
+    EXPECT_NE(s.output.find("failed to load"), std::string::npos) << s.output;
+  }
 }
 
 TEST_F(RuntimeHard, ANodeTooLargeToAllocateFailsAloneAndIsCounted) {
@@ -171,4 +183,28 @@ TEST_F(RuntimeHard, FramesOfALongPathAreCappedBeforeAnythingIsAllocated) {
       gltest::runHlodr("render " + store().string() + " --path " + (dir / "huge.json").string() +
                        " -o " + (dir / "out2").string() + " --quiet");
   EXPECT_NE(h.status, 0) << h.output;
+}
+
+// A disk that fills while frames are written (here a file size limit: writes past 8 KB fail as
+// on a full disk) fails the run and leaves no file half written: no truncated frame, no empty
+// stats.json. Each is written under a temporary name and renamed once whole.
+TEST_F(RuntimeHard, AFullDiskLeavesNoTornFrameOrEmptyStats) {
+  makeStore();
+  const fs::path out = dir / "frames";
+  auto r = gltest::runHlodr("render " + store().string() + " --path " + path().string() + " -o " +
+                                out.string() + " --frames 3 --size 320x180 --quiet",
+                            "trap '' XFSZ; ulimit -f 16;");
+  EXPECT_EQ(r.status, 1) << r.output;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(out, ec)) {
+    const std::string name = e.path().filename().string();
+    EXPECT_EQ(name.find(".partial"), std::string::npos) << name;
+    if (name.rfind("frame_", 0) == 0) {
+      auto img = hlod::loadImage(e.path());
+      EXPECT_TRUE(img.ok()) << name << " is torn: " << img.message();
+    }
+    if (name == "stats.json") {
+      EXPECT_GT(fs::file_size(e.path()), 0u) << name;
+    }
+  }
 }

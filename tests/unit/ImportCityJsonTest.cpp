@@ -482,6 +482,50 @@ TEST(CityJsonImport, DegenerateSurfacesAreSkippedWithACountedWarning) {
   EXPECT_NE(m->warnings[0].find("2 surfaces without area skipped"), std::string::npos);
 }
 
+// What lost a model its anchor, or its surfaces, without a word: an EPSG code that is no code,
+// a lod that is no level, a translate past every reference system.
+TEST(CityJsonImport, AnEpsgThatIsNoCodeALodThatIsNoLevelAndAHugeTranslateAreSaid) {
+  TempDir dir;
+  auto old = [](json epsg) {
+    return json{
+        {"type", "CityJSON"},
+        {"version", "0.9"},
+        {"metadata", {{"crs", {{"epsg", std::move(epsg)}}}}},
+        {"vertices", {{0.5, 0.5, 3.0}, {1.5, 0.5, 3.0}, {1.5, 1.5, 3.0}}},
+        {"CityObjects",
+         {{"r", object({{{"type", "MultiSurface"}, {"lod", 2}, {"boundaries", {{{0, 1, 2}}}}}})}}}};
+  };
+  auto asText = importText(dir, old("7415").dump(), {}, "text.json");
+  ASSERT_TRUE(asText.ok()) << asText.message();
+  EXPECT_EQ(asText->crs.epsg, 7415);  // a code written as text is read
+  for (const json& bad : {json(-1), json(1e308), json("EPSG"), json(7415.5)}) {
+    auto m = importText(dir, old(bad).dump(), {}, "bad.json");
+    ASSERT_TRUE(m.ok()) << m.message();
+    EXPECT_EQ(m->crs.epsg, 0);
+    ASSERT_FALSE(m->warnings.empty()) << bad.dump();
+    EXPECT_NE(m->warnings[0].find("is not an EPSG code"), std::string::npos) << m->warnings[0];
+  }
+  const json tri = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}};
+  for (const json& lod : {json::object(), json(nullptr)}) {
+    auto m = importText(
+        dir,
+        doc(tri,
+            {{"b",
+              object({{{"type", "MultiSurface"}, {"lod", lod}, {"boundaries", {{{0, 1, 2}}}}}})}})
+            .dump());
+    ASSERT_TRUE(m.ok()) << m.message();
+    bool said = false;
+    for (const auto& w : m->warnings) said |= w.find("geometry[0].lod") != std::string::npos;
+    EXPECT_TRUE(said) << lod.dump();
+  }
+  json far = doc(
+      tri,
+      {{"b", object({{{"type", "MultiSurface"}, {"lod", "2"}, {"boundaries", {{{0, 1, 2}}}}}})}});
+  far["transform"]["translate"] = {1e308, 0.0, 0.0};
+  EXPECT_ERROR_HAS(importText(dir, far.dump()), "transform.translate[0]");
+  EXPECT_ERROR_HAS(importText(dir, far.dump()), "beyond any reference system");
+}
+
 // ---- shared data --------------------------------------------------------------------------
 
 // Each CityJSON 2.0 conformance case: the triangles it gives, or the error it must give. Most

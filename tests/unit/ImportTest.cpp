@@ -1,5 +1,6 @@
 // Mesh import of OFF, STL, OBJ and glTF, and loadImage: hand-made files with exact expectations,
 // and broken files that must give an Error naming the file (never a crash).
+#include "hlod/export/ImageWriter.h"
 #include "hlod/import/Import.h"
 
 #include <gtest/gtest.h>
@@ -188,6 +189,34 @@ TEST(StlImport, RejectsNanCoordinate) {
 const std::string kPpm =
     std::string("P6\n3 1\n255\n") + std::string("\xff\x00\x00\x00\xff\x00\x00\x00\xff", 9);
 
+// 20,000 usemtl names over three colours: the materials that draw alike are one mesh each (they
+// were 20,000 meshes, one draw call each, and the name lookup was quadratic).
+TEST(ObjImport, ManyMaterialNamesOfFewColoursBecomeOneMeshPerColour) {
+  TempDir dir;
+  std::string mtl, obj = "mtllib m.mtl\n";
+  const char* colours[3] = {"1 0 0", "0 1 0", "0 0 1"};
+  constexpr int kNames = 20000;
+  for (int i = 0; i < kNames; ++i) {
+    mtl += "newmtl m" + std::to_string(i) + "\nKd " + colours[i % 3] + "\n";
+    obj += "v " + std::to_string(i) + " 0 0\nv " + std::to_string(i) + " 1 0\nv " +
+           std::to_string(i) + " 0 1\nusemtl m" + std::to_string(i) + "\nf -3 -2 -1\n";
+  }
+  dir.write("m.mtl", mtl);
+  auto model = importModel(dir.write("many.obj", obj));
+  ASSERT_TRUE(model.ok()) << model.message();
+  ASSERT_EQ(model->meshes.size(), 3u);
+  std::size_t triangles = 0;
+  for (const Mesh& m : model->meshes) {
+    triangles += m.triangleCount();
+    EXPECT_EQ(m.triangleCount(), m.baseColor.b > 0.5f ? 6666u : 6667u);  // i % 3 of 0..19999
+  }
+  EXPECT_EQ(triangles, std::size_t(kNames));
+  // The triangles keep their own corners: the last red one is where the file put it.
+  const Mesh& red = model->meshes[0];
+  EXPECT_EQ(red.baseColor, glm::vec4(1, 0, 0, 1));
+  EXPECT_EQ(red.positions[red.indices.back()], glm::dvec3(kNames - 2, 0, 1));
+}
+
 TEST(ObjImport, ReadsAllIndexFormsNegativeIndicesAndTriangulatesQuads) {
   TempDir dir;
   auto model = importModel(dir.write("quad.obj",
@@ -226,6 +255,30 @@ TEST(ObjImport, SplitsVerticesThatDifferInTexCoordOrNormal) {
   EXPECT_EQ(ok->meshes[0].positions.size(), 7u);
   EXPECT_EQ(ok->meshes[0].texCoords.size(), 7u);
   EXPECT_TRUE(ok->meshes[0].normals.empty());
+}
+
+// A texture wider than GL draws (16384 on llvmpipe and most GPUs) was drawn black with exit 0:
+// it is resized to fit, with a warning that names it.
+TEST(ObjImport, ATextureWiderThanGlDrawsIsResizedWithAWarning) {
+  TempDir dir;
+  Image wide;
+  wide.width = 16400;
+  wide.height = 2;
+  wide.pixels.assign(std::size_t(wide.width) * wide.height * 4, 200);
+  ASSERT_TRUE(writeImageFile(dir.file("wide.png"), wide, {.alpha = true}).ok());
+  dir.write("m.mtl", "newmtl w\nKd 1 1 1\nmap_Kd wide.png\n");
+  auto model = importModel(dir.write("w.obj",
+                                     "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\n"
+                                     "vt 0 1\nusemtl w\nf 1/1 2/2 3/3\n"));
+  ASSERT_TRUE(model.ok()) << model.message();
+  ASSERT_EQ(model->meshes.size(), 1u);
+  ASSERT_TRUE(model->meshes[0].texture);
+  EXPECT_EQ(model->meshes[0].texture->width, 16384);
+  EXPECT_EQ(model->meshes[0].texture->height, 1);
+  EXPECT_EQ(model->meshes[0].texture->pixels[0], 200);
+  ASSERT_EQ(model->warnings.size(), 1u);
+  EXPECT_NE(model->warnings[0].find("16400x2"), std::string::npos) << model->warnings[0];
+  EXPECT_NE(model->warnings[0].find("resized to 16384x1"), std::string::npos);
 }
 
 TEST(ObjImport, MakesOneMeshPerMaterialWithColourAndTexture) {

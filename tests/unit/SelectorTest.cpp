@@ -550,6 +550,52 @@ TEST(SelectorParams, SetByNameWithClearErrors) {
   EXPECT_NE(setSelectorParams(p, "c_nope=1").message().find("c_fillKeep"), std::string::npos);
 }
 
+TEST(SelectorParams, AValueOutsideItsRangeIsAnErrorNamingTheConstantAndItsRange) {
+  SelectorParams p;
+  struct Case {
+    const char* list;
+    const char* names;
+  };
+  for (const Case& c :
+       {Case{"c_fore=1.5", "c_fore: 1.5 is outside its range 0..0.99"},
+        Case{"feedbackGain=0", "feedbackGain: 0 is outside its range 0.001..1"},
+        Case{"c_aim=2", "c_aim: 2 is outside its range 0.1..1.5"},
+        Case{"ssePixels=5000", "ssePixels: 5000 is outside its range 0.1..1000"},
+        Case{"splats=0.5", "(a whole number)"}, Case{"c_fillAdd=0.95", "c_fillAdd"}}) {
+    const Status s = setSelectorParams(p, c.list);
+    ASSERT_FALSE(s.ok()) << c.list;
+    EXPECT_NE(s.message().find(c.names), std::string::npos) << s.message();
+  }
+  // The defaults are inside their ranges: setting each to its default is no error.
+  const SelectorParams d;
+  const LakhiaParams& l = d.lakhia;
+  for (const auto& [name, value] : {std::pair{"c_vis", l.c_vis},
+                                    {"c_visFalloff", l.c_visFalloff},
+                                    {"c_fore", l.c_fore},
+                                    {"c_velocity", l.c_velocity},
+                                    {"c_minDistance", l.c_minDistance},
+                                    {"c_minCost", l.c_minCost},
+                                    {"c_hystLimit", l.c_hystLimit},
+                                    {"c_hystSwitch", l.c_hystSwitch},
+                                    {"c_hystInitial", l.c_hystInitial},
+                                    {"c_hystRefine", double(l.c_hystRefine)},
+                                    {"vTimeInitial", l.vTimeInitial},
+                                    {"feedbackGain", l.feedbackGain},
+                                    {"feedbackMaxRatio", l.feedbackMaxRatio},
+                                    {"feedbackJumpRatio", l.feedbackJumpRatio},
+                                    {"c_shed", l.c_shed},
+                                    {"c_demandMargin", l.c_demandMargin},
+                                    {"c_aim", l.c_aim},
+                                    {"c_fillKeep", l.c_fillKeep},
+                                    {"c_fillAdd", l.c_fillAdd},
+                                    {"c_fillFast", l.c_fillFast},
+                                    {"c_fillGain", l.c_fillGain},
+                                    {"ssePixels", d.ssePixels},
+                                    {"splatPixels", d.splatPixels},
+                                    {"c_splat", d.c_splat}})
+    EXPECT_TRUE(setSelectorParam(p, name, value).ok()) << name;
+}
+
 TEST(SseSelector, RefinesMoreWithASmallerPixelThreshold) {
   const Skeleton sk = makeSyntheticCity({});
   const View v = overview(sk);

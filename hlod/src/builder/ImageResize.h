@@ -1,7 +1,8 @@
 #pragma once
 // Box-filter resize of an RGBA8 image: each output pixel the mean of the source pixels under it
 // (OpenImageIO ImageBufAlgo::resize, "box" filter one destination pixel wide). The builder's
-// textures shrink with their nodes' simplification (TextureCrop.h). Private to the builder.
+// textures shrink with their nodes' simplification (TextureCrop.h), and the importer shrinks a
+// texture past the GL limit (import/Import.cpp) with it. Private to hlod/src.
 #include "hlod/Mesh.h"
 
 namespace hlod {

@@ -1,6 +1,7 @@
 // Simplification with OpenMesh's decimater and its quadric module (Garland-Heckbert, as QSlim,
 // which Lakhia III-A used).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -57,18 +58,52 @@ class OpenMeshSimplifier final : public Simplifier {
     OmMesh om;
     OpenMesh::VPropHandleT<std::uint32_t> source;
     om.add_property(source);
-    std::vector<OmMesh::VertexHandle> vh(shape.positions.size());
-    for (std::size_t i = 0; i < shape.positions.size(); ++i) {
+    auto addVertex = [&](std::uint32_t i) {
       const glm::dvec3 p = shape.positions[i] - centre;
-      vh[i] = om.add_vertex(OmMesh::Point(p.x, p.y, p.z));
-      om.property(source, vh[i]) = std::uint32_t(i);
-      if (shape.locked[i] == kVertexLocked) om.status(vh[i]).set_locked(true);
-    }
+      const OmMesh::VertexHandle v = om.add_vertex(OmMesh::Point(p.x, p.y, p.z));
+      om.property(source, v) = i;
+      if (shape.locked[i] == kVertexLocked) om.status(v).set_locked(true);
+      return v;
+    };
+    std::vector<OmMesh::VertexHandle> vh(shape.positions.size());
+    for (std::size_t i = 0; i < shape.positions.size(); ++i) vh[i] = addVertex(std::uint32_t(i));
+    // OpenMesh checks each collapse against the one-rings of both its ends and then updates the
+    // neighbours of the vertex it keeps: at a vertex of n faces (a fan's centre, the first
+    // vertex of a triangulated n-gon) a check costs O(n) and a collapse O(n^2), and a fan of
+    // 12,000 triangles decimated for over a minute. The work per vertex is bounded: a vertex of
+    // more than kMaxValence faces is split into copies of at most kMaxValence faces each (in
+    // the faces' order), which map back to the one vertex in the output.
+    constexpr std::size_t kMaxValence = 64;
+    std::vector<std::uint32_t> valence(shape.positions.size(), 0), used(shape.positions.size(), 0);
+    for (std::uint32_t i : shape.indices) ++valence[i];
+    std::vector<std::vector<OmMesh::VertexHandle>> copies(shape.positions.size());
+    auto handleOf = [&](std::uint32_t i) {
+      if (valence[i] <= kMaxValence) return vh[i];
+      const std::size_t copy = used[i]++ / kMaxValence;
+      if (copy == 0) return vh[i];
+      auto& c = copies[i];
+      while (c.size() < copy) c.push_back(addVertex(i));
+      return c[copy - 1];
+    };
     // Triangles OpenMesh rejects (non-manifold) are kept as they are, beside the decimated mesh.
     std::vector<std::uint32_t> rejected;
     for (std::size_t t = 0; t + 2 < shape.indices.size(); t += 3) {
       const auto a = shape.indices[t], b = shape.indices[t + 1], c = shape.indices[t + 2];
-      if (!om.add_face(vh[a], vh[b], vh[c]).is_valid()) rejected.insert(rejected.end(), {a, b, c});
+      if (!om.add_face(handleOf(a), handleOf(b), handleOf(c)).is_valid())
+        rejected.insert(rejected.end(), {a, b, c});
+    }
+    // The copies meet along a cut that OpenMesh sees as a border: the copies and the vertices
+    // on the cut stay, so that both sides of it keep the same edges and close again in the
+    // output (a collapse on one side only opened a crack).
+    for (std::size_t i = 0; i < copies.size(); ++i) {
+      if (copies[i].empty()) continue;
+      std::vector<OmMesh::VertexHandle> split = copies[i];
+      split.push_back(vh[i]);
+      for (const OmMesh::VertexHandle v : split) {
+        om.status(v).set_locked(true);
+        for (const OmMesh::VertexHandle n : om.vv_range(v))
+          if (om.is_boundary(n)) om.status(n).set_locked(true);
+      }
     }
     om.update_face_normals();
 
@@ -87,7 +122,12 @@ class OpenMeshSimplifier final : public Simplifier {
     out.geometricError = std::sqrt(std::max(0.0, decimater.module(quadric).maxError()));
     om.garbage_collection();
     for (auto f : om.faces()) {
-      for (auto v : om.fv_range(f)) out.indices.push_back(om.property(source, v));
+      std::array<std::uint32_t, 3> t{};
+      int k = 0;
+      for (auto v : om.fv_range(f)) t[std::size_t(k++)] = om.property(source, v);
+      // Two copies of a split vertex in one triangle: no area, and a repeated index.
+      if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+        out.indices.insert(out.indices.end(), t.begin(), t.end());
     }
     out.indices.insert(out.indices.end(), rejected.begin(), rejected.end());
     return out;

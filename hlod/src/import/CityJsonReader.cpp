@@ -16,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <map>
@@ -97,13 +98,17 @@ std::string objectPath(const std::string& id) {
   return "CityObjects[\"" + safe + (id.size() > 60 ? "...\"]" : "\"]");
 }
 
+// Coordinates of any reference system on the Earth (metres or degrees) are far below this.
+constexpr double kMaxCrsCoordinate = 1e10;
+
 // A level of detail: its text as the file writes it, and its value for ordering.
 struct Lod {
   std::string text;
   double value = -1.0;
 };
 
-std::optional<Lod> readLod(const json& g) {
+// `bad` is set for a "lod" that is neither a number nor a string ({}, null): read as none.
+std::optional<Lod> readLod(const json& g, bool& bad) {
   const auto it = g.find("lod");
   if (it == g.end()) return std::nullopt;
   Lod lod;
@@ -116,6 +121,7 @@ std::optional<Lod> readLod(const json& g) {
     lod.value = std::strtod(lod.text.c_str(), &end);
     if (end == lod.text.c_str()) lod.value = -1.0;
   } else {
+    bad = true;
     return std::nullopt;
   }
   return lod;
@@ -197,6 +203,8 @@ class Reader {
   std::vector<std::size_t> lastRun_;  // mesh -> its last entry in model_.objectRuns
   std::uint64_t triangles_ = 0;
   std::size_t degenerate_ = 0, partial_ = 0, droppedHoles_ = 0, openShells_ = 0, flipped_ = 0;
+  std::size_t badLods_ = 0;  // a "lod" neither a number nor a string
+  std::string firstBadLod_;
   std::size_t textured_ = 0, skippedTypes_ = 0, relabelled_ = 0;
   std::set<std::string> lodsChosen_;
 };
@@ -260,6 +268,14 @@ Status Reader::readVertices() {
       if (!std::isfinite(value))
         return fail("vertices[" + std::to_string(i) + "][" + std::to_string(c) + "]",
                     "coordinate is not finite");
+      // Past this no reference system on the Earth has coordinates, and doubles no longer tell
+      // neighbouring vertices apart (a translate of 1e308 collapsed every surface).
+      if (std::abs(value) > kMaxCrsCoordinate)
+        return fail(std::abs(translate[c]) > kMaxCrsCoordinate
+                        ? "transform.translate[" + std::to_string(c) + "]"
+                        : "vertices[" + std::to_string(i) + "][" + std::to_string(c) + "]",
+                    "coordinate " + fmtNumber(value) + " is beyond any reference system (at most " +
+                        fmtNumber(kMaxCrsCoordinate) + " in magnitude)");
       sourceVertices_[i][c] = value;
     }
   }
@@ -275,9 +291,20 @@ Status Reader::readCrs() {
         warn(path_, "metadata.referenceSystem \"" + r->get<std::string>().substr(0, 80) +
                         "\" names no EPSG code: coordinates kept as they are");
     } else if (const auto c = m->find("crs"); c != m->end() && c->is_object()) {
-      // 0.x: "crs": {"epsg": 7415}
-      if (const auto e = c->find("epsg"); e != c->end() && e->is_number_integer())
-        epsg = int(std::clamp<std::int64_t>(e->get<std::int64_t>(), 0, 999999));
+      // 0.x: "crs": {"epsg": 7415}. A code written as text ("7415") is read; anything else that
+      // is not a code is said: the model would lose its place on the Earth without a word.
+      if (const auto e = c->find("epsg"); e != c->end()) {
+        const std::string text = e->is_string() ? e->get<std::string>() : e->dump();
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if ((e->is_number() || e->is_string()) && !text.empty() && *end == '\0' && v >= 1 &&
+            v <= 999999 && v == std::floor(v))
+          epsg = int(v);
+        else
+          warn(path_, "metadata.crs.epsg " + text.substr(0, 40) +
+                          " is not an EPSG code (a whole number 1..999999): coordinates kept as "
+                          "they are");
+      }
     }
   }
   Aabb box;
@@ -700,8 +727,10 @@ Status Reader::readObject(const std::string& id, const json& object) {
     }
     const auto st = surfaces->find("type");
     if (st == surfaces->end() || !st->is_string() || !surfaceType(st->get<std::string>())) continue;
-    lods[i] = readLod(g);
-    if (!lods[i]) lods[i] = readLod(*surfaces);
+    bool bad = false;
+    lods[i] = readLod(g, bad);
+    if (!lods[i]) lods[i] = readLod(*surfaces, bad);
+    if (bad && badLods_++ == 0) firstBadLod_ = where + ".geometry[" + std::to_string(i) + "].lod";
     if (!lods[i]) lods[i] = Lod{};
     if (!highest || lods[i]->value > *highest) highest = lods[i]->value;
   }
@@ -759,6 +788,9 @@ Result<Model> Reader::run() {
                     " surfaces labelled WallSurface face up or down: coloured as roof or ground");
   if (skippedTypes_)
     warn(path_, std::to_string(skippedTypes_) + " geometries of unknown type skipped");
+  if (badLods_)
+    warn(path_, std::to_string(badLods_) + " geometries have a lod that is neither a number nor " +
+                    "a string (the first: " + firstBadLod_ + "): read as without a level");
   if (!options_.lod.empty() && model_.cityObjects == 0 && !objects->empty())
     return fileError(path_, "no city object has geometry at LoD " + options_.lod);
   if (triangles_ == 0 && degenerate_ > 0)

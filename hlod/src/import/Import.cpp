@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "builder/ImageResize.h"
 #include "hlod/import/InsideFolder.h"
 #include "import/ImportUtil.h"
 
@@ -94,8 +95,38 @@ std::string fmt(double v) {
   return buf;
 }
 
+// The largest texture side hlodr draws: the GL limit of llvmpipe and of most GPUs. A larger
+// texture failed to upload and its mesh was drawn black, with exit 0 and no word.
+constexpr int kMaxTextureSide = 16384;
+
+// A texture past kMaxTextureSide, shrunk to fit (its aspect kept) with a warning that names it;
+// each shared texture once.
+void shrinkLargeTextures(const std::filesystem::path& path, Model& model) {
+  std::vector<std::pair<const Image*, std::shared_ptr<const Image>>> done;
+  for (Mesh& mesh : model.meshes) {
+    if (!mesh.texture) continue;
+    const Image& t = *mesh.texture;
+    const int side = std::max(t.width, t.height);
+    if (side <= kMaxTextureSide) continue;
+    auto it = std::find_if(done.begin(), done.end(), [&](const auto& d) { return d.first == &t; });
+    if (it == done.end()) {
+      const double scale = double(kMaxTextureSide) / side;
+      const int w = std::max(1, int(t.width * scale)), h = std::max(1, int(t.height * scale));
+      model.warnings.push_back(path.filename().string() + ": the texture of '" + mesh.name +
+                               "' is " + std::to_string(t.width) + "x" + std::to_string(t.height) +
+                               ", more than the " + std::to_string(kMaxTextureSide) +
+                               " a side GL draws: resized to " + std::to_string(w) + "x" +
+                               std::to_string(h));
+      done.emplace_back(&t, std::make_shared<const Image>(resizeImage(t, w, h)));
+      it = done.end() - 1;
+    }
+    mesh.texture = it->second;
+  }
+}
+
 // Checks the invariants the rest of hlodr relies on; drops meshes without triangles.
 Status validate(const std::filesystem::path& path, Model& model) {
+  shrinkLargeTextures(path, model);
   std::vector<Mesh> kept;
   kept.reserve(model.meshes.size());
   std::vector<std::uint32_t> keptAs(model.meshes.size(), 0xffffffffu);  // for objectRuns

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <map>
+#include <tuple>
 #include <unordered_map>
 
 #include "hlod/import/InsideFolder.h"
@@ -110,6 +112,7 @@ class ObjParser {
     // A rough upper bound from the file size keeps reallocations few on big files.
     positions_.reserve(bytes.size() / 64);
     groups_.push_back(Group{});
+    groupOf_[""] = 0;
   }
 
   Result<Model> run() {
@@ -151,21 +154,25 @@ class ObjParser {
   }
 
  private:
+  // By a map from name to group: a search of the groups for each usemtl made 100,000 materials
+  // quadratic (47 s to render such a file).
   void useMaterial(const std::string& name) {
-    for (std::size_t i = 0; i < groups_.size(); ++i)
-      if (groups_[i].material == name) {
-        current_ = i;
-        return;
-      }
+    if (auto it = groupOf_.find(name); it != groupOf_.end()) {
+      current_ = it->second;
+      return;
+    }
     // Faces before any usemtl use group 0 with the empty material: reuse it when still unused.
     if (groups_.size() == 1 && groups_[0].material.empty() && groups_[0].mesh.indices.empty()) {
+      groupOf_.erase(groups_[0].material);
       groups_[0].material = name;
+      groupOf_[name] = 0;
       current_ = 0;
       return;
     }
     groups_.push_back(Group{});
     groups_.back().material = name;
     current_ = groups_.size() - 1;
+    groupOf_[name] = current_;
   }
 
   // Resolves an OBJ index (1-based, or negative from the end) to 0-based; -2 when invalid.
@@ -256,6 +263,9 @@ class ObjParser {
   Result<Model> finish() {
     Model model;
     TextureCache textures;
+    // Materials that draw alike (colour and texture) become one mesh: a file whose 100,000
+    // usemtl names repeat three colours drew 100,000 meshes, one draw call each.
+    std::map<std::tuple<float, float, float, float, const Image*>, std::size_t> meshOf;
     for (auto& g : groups_) {
       if (g.mesh.indices.empty()) continue;
       if (!g.anyTexCoord) g.mesh.texCoords.clear();
@@ -270,9 +280,35 @@ class ObjParser {
         }
       }
       g.corners.clear();
-      model.meshes.push_back(std::move(g.mesh));
+      const glm::vec4& c = g.mesh.baseColor;
+      const auto [at, fresh] =
+          meshOf.try_emplace({c.r, c.g, c.b, c.a, g.mesh.texture.get()}, model.meshes.size());
+      if (fresh)
+        model.meshes.push_back(std::move(g.mesh));
+      else
+        append(model.meshes[at->second], std::move(g.mesh));
     }
     return model;
+  }
+
+  // Appends b's triangles to a (of the same material): attributes one of them lacks are
+  // padded (texture coordinates) or left to toLocal (normals).
+  static void append(Mesh& a, Mesh b) {
+    const auto base = static_cast<std::uint32_t>(a.positions.size());
+    const bool texCoords = !a.texCoords.empty() || !b.texCoords.empty();
+    if (texCoords) {
+      a.texCoords.resize(a.positions.size(), glm::vec2(0.0f));
+      b.texCoords.resize(b.positions.size(), glm::vec2(0.0f));
+    }
+    if (a.normals.empty() || b.normals.empty()) {
+      a.normals.clear();
+      b.normals.clear();
+    }
+    a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
+    if (texCoords) a.texCoords.insert(a.texCoords.end(), b.texCoords.begin(), b.texCoords.end());
+    a.normals.insert(a.normals.end(), b.normals.begin(), b.normals.end());
+    a.indices.reserve(a.indices.size() + b.indices.size());
+    for (std::uint32_t i : b.indices) a.indices.push_back(base + i);
   }
 
   const std::filesystem::path& path_;
@@ -281,6 +317,7 @@ class ObjParser {
   std::vector<glm::vec2> texCoords_;
   std::vector<glm::vec3> normals_;
   std::vector<Group> groups_;
+  std::unordered_map<std::string, std::size_t> groupOf_;  // material name -> its group
   std::size_t current_ = 0;
   std::vector<std::uint32_t> polygon_;
   std::unordered_map<std::string, Material> materials_;

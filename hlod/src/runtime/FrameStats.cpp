@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hlod/AtomicFile.h"
 #include "hlod/runtime/Loader.h"
 #include "hlod/runtime/Selector.h"
 
@@ -28,11 +29,7 @@ double finiteOrZero(double v) {
 }
 
 Status writeText(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) return makeError("cannot write '" + path + "'");
-  out << text;
-  if (!out) return makeError("error writing '" + path + "'");
-  return Ok{};
+  return writeFileAtomically(path, text);  // a full disk leaves no empty stats.json
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // SelectorParams by name: `hlodr render --params c_aim=1,c_fillAdd=0.03`, walk_bench --params.
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "hlod/runtime/Selector.h"
@@ -8,86 +9,103 @@
 namespace hlod {
 namespace {
 
-// Every tunable double of SelectorParams, with the name it has in the code (and the paper).
-// c_targetTime is not here: --budget-ms sets it. c_hystRefine is an integer, handled apart.
+// Every constant of SelectorParams by the name it has in the code (and the paper), with the
+// range where it means what its comment in Selector.h says: a value outside is an Error that
+// names the constant and its range (the selectors used to clamp such values silently where
+// they used them). c_targetTime is not here: --budget-ms sets it.
 struct Named {
   std::string_view name;
-  double LakhiaParams::*member;
-  bool signedValue = false;  // a hysteresis counter's start may be negative; nothing else
+  double lo, hi;
+  double LakhiaParams::*member = nullptr;
 };
 constexpr Named kLakhiaDoubles[] = {
-    {"c_vis", &LakhiaParams::c_vis},
-    {"c_visFalloff", &LakhiaParams::c_visFalloff},
-    {"c_fore", &LakhiaParams::c_fore},
-    {"c_velocity", &LakhiaParams::c_velocity},
-    {"c_minDistance", &LakhiaParams::c_minDistance},
-    {"c_minCost", &LakhiaParams::c_minCost},
-    {"c_hystLimit", &LakhiaParams::c_hystLimit},
-    {"c_hystSwitch", &LakhiaParams::c_hystSwitch},
-    {"c_hystInitial", &LakhiaParams::c_hystInitial, true},
-    {"vTimeInitial", &LakhiaParams::vTimeInitial},
-    {"feedbackGain", &LakhiaParams::feedbackGain},
-    {"feedbackMaxRatio", &LakhiaParams::feedbackMaxRatio},
-    {"feedbackJumpRatio", &LakhiaParams::feedbackJumpRatio},
-    {"c_shed", &LakhiaParams::c_shed},
-    {"c_demandMargin", &LakhiaParams::c_demandMargin},
-    {"c_aim", &LakhiaParams::c_aim},
-    {"c_fillKeep", &LakhiaParams::c_fillKeep},
-    {"c_fillAdd", &LakhiaParams::c_fillAdd},
-    {"c_fillFast", &LakhiaParams::c_fillFast},
-    {"c_fillGain", &LakhiaParams::c_fillGain},
+    {"c_vis", 0.0, 100.0, &LakhiaParams::c_vis},
+    {"c_visFalloff", 0.0, 100.0, &LakhiaParams::c_visFalloff},
+    {"c_fore", 0.0, 0.99, &LakhiaParams::c_fore},  // foreshorten = 1 + facing * c_fore > 0
+    {"c_velocity", 0.0, 10.0, &LakhiaParams::c_velocity},
+    {"c_minDistance", 1e-6, 1e6, &LakhiaParams::c_minDistance},
+    {"c_minCost", 1e-6, 1e9, &LakhiaParams::c_minCost},
+    {"c_hystLimit", 0.0, 1000.0, &LakhiaParams::c_hystLimit},
+    {"c_hystSwitch", 1e-3, 1000.0, &LakhiaParams::c_hystSwitch},
+    {"c_hystInitial", -1000.0, 1000.0, &LakhiaParams::c_hystInitial},
+    {"vTimeInitial", 1e-12, 1e3, &LakhiaParams::vTimeInitial},
+    {"feedbackGain", 1e-3, 1.0, &LakhiaParams::feedbackGain},  // 0 < gain <= 1: no overshoot
+    {"feedbackMaxRatio", 1.0, 1000.0, &LakhiaParams::feedbackMaxRatio},
+    {"feedbackJumpRatio", 0.0, 1000.0, &LakhiaParams::feedbackJumpRatio},  // 0: off
+    {"c_shed", 0.0, 100.0, &LakhiaParams::c_shed},
+    {"c_demandMargin", 1.0, 100.0, &LakhiaParams::c_demandMargin},
+    {"c_aim", 0.1, 1.5, &LakhiaParams::c_aim},
+    {"c_fillKeep", 0.0, 1.0, &LakhiaParams::c_fillKeep},
+    {"c_fillAdd", 0.0, 0.9, &LakhiaParams::c_fillAdd},
+    {"c_fillFast", 0.0, 1.0, &LakhiaParams::c_fillFast},
+    {"c_fillGain", 0.0, 1.0, &LakhiaParams::c_fillGain},
 };
+// The rest: an integer, numbers of SelectorParams itself, and switches (0 or 1).
+constexpr Named kOthers[] = {
+    {"c_hystRefine", 0.0, 1e6}, {"ssePixels", 0.1, 1000.0},    {"splatPixels", 0.0, 10000.0},
+    {"c_splat", 0.0, 1000.0},   {"quadtreeCulling", 0.0, 1.0}, {"splats", 0.0, 1.0},
+    {"progressive", 0.0, 1.0},
+};
+
+const Named* find(std::string_view name) {
+  for (const Named& n : kLakhiaDoubles)
+    if (n.name == name) return &n;
+  for (const Named& n : kOthers)
+    if (n.name == name) return &n;
+  return nullptr;
+}
+
+// Shortest readable: 1.5, not 1.500000.
+std::string numberText(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::string rangeText(const Named& n) {
+  return numberText(n.lo) + ".." + numberText(n.hi);
+}
 
 }  // namespace
 
 std::string selectorParamNames() {
   std::string names;
   for (const Named& n : kLakhiaDoubles) names += std::string(n.name) + ' ';
-  return names + "c_hystRefine ssePixels quadtreeCulling splats splatPixels c_splat progressive";
+  for (const Named& n : kOthers) names += std::string(n.name) + ' ';
+  names.pop_back();
+  return names;
 }
 
 Status setSelectorParam(SelectorParams& params, std::string_view name, double value) {
-  if (!std::isfinite(value))
-    return makeError("parameter " + std::string(name) + ": not a finite number");
-  if (name == "ssePixels") {
-    if (!(value > 0.0)) return makeError("parameter ssePixels: must be above 0");
-    params.ssePixels = value;
-    return Ok{};
-  }
-  if (name == "splats" || name == "progressive") {
-    if (value != 0.0 && value != 1.0)
-      return makeError("parameter " + std::string(name) + ": must be 0 or 1");
-    (name == "splats" ? params.splats : params.progressive) = value == 1.0;
-    return Ok{};
-  }
-  if (name == "splatPixels" || name == "c_splat") {
-    if (!(value >= 0.0) || !std::isfinite(value))
-      return makeError("parameter " + std::string(name) + ": must be finite and >= 0");
-    (name == "splatPixels" ? params.splatPixels : params.c_splat) = value;
-    return Ok{};
-  }
-  if (name == "quadtreeCulling") {
-    if (value != 0.0 && value != 1.0) return makeError("parameter quadtreeCulling: must be 0 or 1");
-    params.quadtreeCulling = value == 1.0;
-    return Ok{};
-  }
-  if (name == "c_hystRefine") {
-    if (value != std::trunc(value) || std::fabs(value) > 1e6)
-      return makeError("parameter c_hystRefine: must be a whole number");
+  const Named* n = find(name);
+  if (!n)
+    return makeError("unknown parameter '" + std::string(name) +
+                     "' (known: " + selectorParamNames() + ")");
+  // c_hystRefine is a count; the switches are 0 or 1.
+  const bool whole = !n->member && (name == "c_hystRefine" || n->hi == 1.0);
+  if (!std::isfinite(value) || value < n->lo || value > n->hi ||
+      (whole && value != std::trunc(value)))
+    return makeError("parameter " + std::string(name) + ": " +
+                     (std::isfinite(value) ? numberText(value) : "not finite") +
+                     " is outside its range " + rangeText(*n) + (whole ? " (a whole number)" : ""));
+  if (n->member) {
+    params.lakhia.*n->member = value;
+  } else if (name == "c_hystRefine") {
     params.lakhia.c_hystRefine = static_cast<long long>(value);
-    return Ok{};
+  } else if (name == "ssePixels") {
+    params.ssePixels = value;
+  } else if (name == "splatPixels") {
+    params.splatPixels = value;
+  } else if (name == "c_splat") {
+    params.c_splat = value;
+  } else if (name == "quadtreeCulling") {
+    params.quadtreeCulling = value == 1.0;
+  } else if (name == "splats") {
+    params.splats = value == 1.0;
+  } else {
+    params.progressive = value == 1.0;
   }
-  for (const Named& n : kLakhiaDoubles) {
-    if (n.name == name) {
-      // The selectors clamp each constant to its meaningful range where they use it.
-      if (value < 0.0 && !n.signedValue)
-        return makeError("parameter " + std::string(name) + ": must be >= 0");
-      params.lakhia.*n.member = value;
-      return Ok{};
-    }
-  }
-  return makeError("unknown parameter '" + std::string(name) + "' (known: " + selectorParamNames() +
-                   ")");
+  return Ok{};
 }
 
 Status setSelectorParams(SelectorParams& params, std::string_view list) {

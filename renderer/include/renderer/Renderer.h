@@ -85,6 +85,9 @@ class Renderer {
   // The passes each frame runs, in order.
   const std::vector<Pass>& passes() const { return passes_; }
   ResourceCounts resources() const;
+  // The bytes of the render targets (colour, depth, shadow map, SSAO) that a Renderer with these
+  // options allocates in init(): what a server counts against its GL memory cap first.
+  static std::uint64_t targetBytes(const RenderOptions& options);
   // Programs compiled so far: each variant once, however many frames and meshes.
   int programCompiles() const { return compiles_; }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hlod/Result.h"
+#include "service/Settings.h"
 
 namespace service {
 
@@ -35,6 +36,15 @@ class Args {
   };
   hlod::Result<Size> size(const std::string& name, const std::string& fallback, int lo,
                           int hi) const;
+
+  // A setting of the table (service/Settings.h) by its option: its default when absent; an
+  // Error that names the option and its range otherwise.
+  hlod::Result<double> number(const Setting& s) const;
+  hlod::Result<long long> integer(const Setting& s) const;
+  hlod::Result<std::string> choice(const Setting& s) const;
+  hlod::Result<Size> size(const Setting& s) const;
+  hlod::Result<std::vector<double>> numbers(const Setting& s) const;
+  hlod::Result<std::vector<std::string>> choices(const Setting& s) const;
 
  private:
   std::vector<std::string> positionals_;

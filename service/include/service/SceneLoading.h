@@ -7,6 +7,8 @@
 #include "hlod/Result.h"
 #include "hlod/UpAxis.h"
 #include "hlod/import/Import.h"
+#include "hlod/runtime/Camera.h"
+#include "hlod/store/Skeleton.h"
 #include "renderer/FrameView.h"
 
 namespace service {
@@ -30,6 +32,10 @@ struct CameraPose {
 
 // The default view of a model (hlod::defaultViewDirection, framed by hlod::frameBounds).
 CameraPose defaultCamera(const hlod::Aabb& bounds, hlod::UpAxis up, double fovY, double aspect);
+
+// The default camera of a node store: the box of its roots, framed as defaultCamera frames a
+// model (the server's scenes and `hlodr render STORE` start from it).
+hlod::Camera storeCamera(const hlod::Skeleton& skeleton, double fovY, double aspect);
 
 // Near and far planes that hold the box seen from the camera (reversed-Z makes a wide range safe).
 void clipPlanes(const CameraPose& camera, const hlod::Aabb& bounds, double& zNear, double& zFar);

@@ -7,6 +7,7 @@
 // A bounded render queue answers 503 with Retry-After past --queue; at most --max-streams
 // event streams at once. stop() shuts down gracefully: jobs are cancelled and close what they
 // wrote (video, stats), sessions are destroyed on their workers.
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -27,16 +28,26 @@ struct ServerOptions {
   int workers = 2;
   int jobRunners = 1;
   std::size_t maxSessions = 16;
-  std::size_t queue = 32;                    // render requests waiting or running, all workers
-  std::size_t maxStreams = 16;               // event streams at once
-  std::size_t maxJobs = 8;                   // queued or running
-  std::uint64_t maxFrames = 5000;            // per job
-  int maxSize = 4096;                        // largest frame side
-  std::uint64_t cacheBytes = 1024ull << 20;  // decoded node payloads, all sessions together
+  std::size_t queue = 32;                       // render requests waiting or running, all workers
+  std::size_t maxStreams = 16;                  // event streams at once
+  std::size_t maxJobs = 8;                      // queued or running
+  std::uint64_t maxFrames = 5000;               // per job
+  double keepJobsDays = 7.0;                    // finished jobs older than this go (0: never)
+  std::uint64_t jobsMaxBytes = 0;               // the oldest finished jobs go past this (0: no cap)
+  int maxSize = 4096;                           // largest frame side
+  std::uint64_t cacheBytes = 1024ull << 20;     // decoded node payloads, all sessions together
+  std::uint64_t glMemoryBytes = 4096ull << 20;  // render targets and GPU copies, all sessions
   int sessionIdleSeconds = 120;
+  int requestTimeoutSeconds = 10;             // a request's head (and then its body) must arrive
+  std::size_t maxConnectionsPerAddress = 64;  // open connections of one client; 0: no cap
+  std::size_t maxConnections = 1000;          // open connections in all
   int renderTimeoutSeconds = 120;
   renderer::Backend backend = renderer::Backend::Auto;
   bool accessLog = true;
+  // The clock of sessions' idle time (tests step one of their own).
+  std::function<std::chrono::steady_clock::time_point()> clock = [] {
+    return std::chrono::steady_clock::now();
+  };
 };
 
 class Server {
@@ -51,6 +62,12 @@ class Server {
   void run();
   // From any thread (a signal thread, a test): stops serving.
   void stop();
+  // Closes the sessions idle longer than --session-idle-s by the options' clock, as the server
+  // does every 2 s on its own; returns how many.
+  std::size_t closeIdleSessions();
+  // Holds every render worker until the returned handle goes: frames wait in the queue behind
+  // it (a test that needs a full queue for certain, a drain before maintenance).
+  std::shared_ptr<void> holdWorkers();
   std::string url() const;
 
  private:

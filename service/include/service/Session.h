@@ -87,6 +87,9 @@ class Session {
   const SessionOptions& options() const { return options_; }
   hlod::LoaderCounters loaderCounters() const { return loader_->counters(); }
   std::string lastLoadError() const { return loader_->lastError(); }
+  // Empty while every node loaded; else what a command says and fails with: a node that failed
+  // to load was drawn coarser, so the frames show a damaged store, not the model.
+  std::string loadFailure() const;
   std::size_t gpuNodeCount() const { return renderer_->residency().size(); }
   std::uint64_t gpuBytes() const { return renderer_->residency().gpuBytes(); }
   // The last recentFrames records, oldest first.

@@ -1,5 +1,6 @@
 #pragma once
 // Declarations of the subcommands listed in Cli.cpp. One file per command in this folder.
+#include <array>
 #include <cstdio>
 #include <set>
 #include <string>
@@ -49,8 +50,13 @@ int runServe(const Argv& args);
 
 extern const char* const kPathUsage;
 int runPath(const Argv& args);
-// `hlodr render STORE --path PATH.json`: a camera path through a PathSession (PathCommand.cpp).
+// `hlodr render STORE --path PATH.json`: a camera path through a Session (PathCommand.cpp).
 int runRenderPath(const Argv& args);
+// `hlodr render STORE [--camera ...] -o IMAGE`: one budget-bound frame (RenderStoreCommand.cpp).
+int runRenderStoreFrame(const Argv& args);
+// --camera PX,PY,PZ,TX,TY,TZ: six finite numbers, the position apart from the target; the
+// message says which value is wrong (RenderCommand.cpp).
+hlod::Result<std::array<double, 6>> parseCamera(const std::string& s);
 bool isNodeStore(const std::string& path);
 // The options and flags only a camera path run takes (both render forms parse them, so that a
 // single-frame render can say they need a node store and --path).

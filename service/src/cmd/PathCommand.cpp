@@ -8,12 +8,14 @@
 
 #include "cmd/Commands.h"
 #include "cmd/SceneArgs.h"
+#include "cmd/SessionArgs.h"
 #include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/Framing.h"
 #include "hlod/store/NodeStore.h"
 #include "service/Args.h"
 #include "service/Progress.h"
 #include "service/Session.h"
+#include "service/Settings.h"
 
 namespace service::cmd {
 
@@ -26,12 +28,9 @@ const char* const kPathUsage =
     "node STORE (made by `hlodr build`). Render it with `hlodr render STORE --path PATH.json`.\n"
     "\n"
     "options:\n"
-    "  --kind K                walk-fly: a street-level walk rising into a fly-over (35 s);\n"
-    "                          drive: a loop along streets at 1.5 m (both for z-up cities);\n"
-    "                          orbit: a circle around the store's up axis, framing the model\n"
-    "                          (30 s)\n"
+    "{pathKind}\n"
     "  -o, --output PATH.json  output file (required)\n"
-    "  --duration S            stretch or shrink the path to S seconds\n";
+    "{duration}\n";
 
 namespace {
 
@@ -54,14 +53,14 @@ int runPath(const Argv& argv) {
                         : !args->has("output")          ? "-o PATH.json is required"
                                                         : nullptr;
   if (missing) {
-    std::fprintf(stderr, "hlodr path: %s\n%s", missing, kPathUsage);
+    std::fprintf(stderr, "hlodr path: %s\n%s", missing, expandUsage(kPathUsage).c_str());
     return 2;
   }
-  auto duration = args->number("duration", 0.0, 0.1, 1e6);
+  auto duration = args->number(settings::get("duration"));
   if (!duration) return usageError("path", duration.message());
-  const std::string kind = args->get("kind", "");
-  if (kind != "walk-fly" && kind != "drive" && kind != "orbit")
-    return usageError("path", "--kind must be walk-fly, drive or orbit (not '" + kind + "')");
+  auto kindChoice = args->choice(settings::get("pathKind"));
+  if (!kindChoice) return usageError("path", kindChoice.message());
+  const std::string kind = *kindChoice;
 
   const fs::path storePath = args->positionals()[0];
   if (!isStore(storePath)) {
@@ -82,7 +81,7 @@ int runPath(const Argv& argv) {
     std::fprintf(stderr, "hlodr path: %s\n", path.message().c_str());
     return 1;
   }
-  if (*duration > 0.0) {
+  if (args->has("duration")) {
     auto scaled = hlod::withDuration(*path, *duration);
     if (!scaled) {
       std::fprintf(stderr, "hlodr path: %s\n", scaled.message().c_str());
@@ -128,40 +127,26 @@ int runRenderPath(const Argv& argv) {
                  "and -o OUT (a folder or a .mp4)\n");
     return 2;
   }
-  SessionOptions so;
-  auto size = args->size("size", "1280x720", 1, 8192);
-  if (!size) return usageError("render", size.message());
-  so.width = size->width;
-  so.height = size->height;
-  auto budget = args->number("budget-ms", 33.0, 0.01, 1e5);
-  auto memory = args->number("memory-mb", 0.0, 0.0, 1e7);
-  auto fps = args->number("fps", 30.0, 0.1, 1000.0);
-  auto ioMbps = args->number("io-mbps", 0.0, 0.0, 1e7);
-  auto ioLatency = args->number("io-latency-ms", 0.0, 0.0, 1e5);
-  auto frames = args->integer("frames", -1, 0, 100000000);
-  auto ioRequests = args->integer("io-requests", 4, 1, 1024);
-  auto uploadMs = args->number("upload-ms", 2.0, 0.0, 1e5);
-  for (const auto* r : {&budget, &memory, &fps, &ioMbps, &ioLatency, &uploadMs})
+  using settings::get;
+  auto session0 = sessionFromArgs(*args);
+  if (!session0) return usageError("render", session0.message());
+  SessionOptions so = *session0;
+  auto fps = args->number(get("fps"));
+  auto ioMbps = args->number(get("ioMbps"));
+  auto ioLatency = args->number(get("ioLatencyMs"));
+  auto frames = args->integer(get("frames"));
+  auto ioRequests = args->integer(get("ioRequests"));
+  auto uploadMs = args->number(get("uploadMs"));
+  for (const auto* r : {&fps, &ioMbps, &ioLatency, &uploadMs})
     if (!*r) return usageError("render", r->message());
   for (const auto* r : {&frames, &ioRequests})
     if (!*r) return usageError("render", r->message());
-  so.budgetMs = *budget;
-  so.memoryCapBytes = static_cast<std::uint64_t>(*memory * 1024.0 * 1024.0);
   so.ioMbps = *ioMbps;
   so.ioLatencyMs = *ioLatency;
   so.ioRequests = static_cast<std::size_t>(*ioRequests);
   so.uploadBudgetMs = *uploadMs;
-  if (auto p = hlod::setSelectorParams(so.selectorParams, args->get("params", "")); !p)
-    return usageError("render", "--params: " + p.message());
-  auto splats = args->onOff("splats", so.selectorParams.splats);
-  if (!splats) return usageError("render", splats.message());
-  so.selectorParams.splats = *splats;
-  so.selector = args->get("selector", "lakhia");
-  if (so.selector != "lakhia" && so.selector != "sse" && so.selector != "fs" &&
-      so.selector != "full")
-    return usageError("render", "--selector must be lakhia, sse, fs or full");
-  auto mode = parseMode(args->get("mode", "realtime"));
-  if (!mode) return usageError("render", "--" + mode.message());
+  auto mode = args->choice(get("mode"));
+  if (!mode) return usageError("render", mode.message());
   so.effects = declared->scene.effects;
   auto backend = renderer::backendFromEnvironment();
   if (!backend) return usageError("render", backend.message());
@@ -196,9 +181,9 @@ int runRenderPath(const Argv& argv) {
 
   hlod::PathRunOptions ro;
   ro.fps = *fps;
-  ro.maxFrames = *frames;
+  ro.maxFrames = args->has("frames") ? *frames : -1;
   ro.prefetchSeconds = args->has("prefetch") ? 1.0 : 0.0;
-  ro.mode = *mode;
+  ro.mode = *mode == "settled" ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime;
   FileOutputs outputs;
   outputs.output = args->get("output", "");
   outputs.plots = args->has("plots");
@@ -218,14 +203,8 @@ int runRenderPath(const Argv& argv) {
     return 1;
   }
   // A node that failed to load was drawn coarser all along: say so, and fail the run.
-  const hlod::LoaderCounters lc = (*session)->loaderCounters();
-  if (lc.loadErrors > 0) {
-    std::fprintf(stderr,
-                 "hlodr render: %llu node(s) of the store failed to load and were drawn coarser "
-                 "(last: %s); the store is damaged, rebuild it with `hlodr build`\n",
-                 static_cast<unsigned long long>(lc.loadErrors),
-                 (*session)->lastLoadError().c_str());
-  }
+  const std::string failure = (*session)->loadFailure();
+  if (!failure.empty()) std::fprintf(stderr, "hlodr render: %s\n", failure.c_str());
   const auto& s = result->summary;
   std::printf(
       "%zu frames -> %s\n"
@@ -240,7 +219,7 @@ int runRenderPath(const Argv& argv) {
   if (s.capBytes > 0) std::printf(" of cap %.1f MB (%.2f)", s.capBytes / 1048576.0, s.peakOverCap);
   std::printf("\nstats: %s\n", result->statsJson.string().c_str());
   for (const auto& p : result->plots) std::printf("plot: %s\n", p.string().c_str());
-  return lc.loadErrors > 0 ? 1 : 0;
+  return failure.empty() ? 0 : 1;
 }
 
 }  // namespace service::cmd

@@ -13,6 +13,7 @@
 #include "renderer/Renderer.h"
 #include "service/Args.h"
 #include "service/SceneLoading.h"
+#include "service/Settings.h"
 
 namespace service::cmd {
 
@@ -32,8 +33,8 @@ const char* const kRenderUsage =
     "                          files)\n"
     "  --lod X                 CityJSON: the level of detail to draw, as the file names it (1,\n"
     "                          2, 2.2 ...; default: each city object at its highest)\n"
-    "  --size WxH              frame size in pixels, up to 8192x8192 (default 1280x720)\n"
-    "  --fov DEG               vertical field of view in degrees (default 50)\n"
+    "{size}\n"
+    "{fov}\n"
     "  --scene FILE            a scene file (docs/scene.md): the effects, background and\n"
     "                          camera; its store stands in for MODEL when MODEL is omitted\n"
     "  --unlit                 no lighting (without --scene: textures, lambert and a sun)\n"
@@ -42,46 +43,53 @@ const char* const kRenderUsage =
     "  --quiet                 no progress output\n"
     "\n"
     "\n"
+    "usage: hlodr render STORE [--camera PX,PY,PZ,TX,TY,TZ] -o IMAGE [options]\n"
+    "\n"
+    "One frame of the node STORE (from `hlodr build`) as the server's POST /api/render draws it:\n"
+    "the front the budget buys, chosen by the selector and loaded by the streaming loader.\n"
+    "Prints the frame's time against the budget, its triangles and nodes per level.\n"
+    "\n"
+    "options:\n"
+    "  --camera PX,PY,PZ,TX,TY,TZ   as above (default: the store's framing, as the server's)\n"
+    "{budgetMs}\n"
+    "{selector}\n"
+    "{frameMode}\n"
+    "{memoryMb}\n"
+    "  --size, --fov, --scene, --unlit, --no-textures, --fog, --quiet   as above\n"
+    "  --params, --splats      as for a path, below\n"
+    "\n"
+    "\n"
     "usage: hlodr render STORE --path PATH.json -o OUT [options]\n"
     "\n"
     "Runs a camera path (from `hlodr path`) through the node STORE (from `hlodr build`) with the\n"
     "time-budgeted front selector and the streaming loader. OUT is a folder for a PNG sequence\n"
     "(frame_00000.png ...) or a file ending .mp4 (needs ffmpeg). Writes stats.json and\n"
-    "stats.csv into the folder, or STEM.stats.json / STEM.stats.csv beside the .mp4.\n"
+    "stats.csv into the folder, or STEM.stats.json / STEM.stats.csv beside the .mp4. Each file\n"
+    "is written whole under a temporary name, then renamed: a full disk leaves no torn frame.\n"
     "\n"
     "options:\n"
-    "  --budget-ms MS          frame time budget (default 33)\n"
-    "  --selector S            lakhia (default), sse, fs or full\n"
-    "  --mode M                realtime (default: never wait for loading; not yet loaded nodes\n"
-    "                          are drawn coarser) or settled (wait until the selected front is\n"
-    "                          loaded: frames independent of I/O timing, for videos)\n"
-    "  --size WxH              frame size (default 1280x720)\n"
-    "  --fps N                 path sampling rate (default 30)\n"
-    "  --frames N              render only the first N frames\n"
-    "  --memory-mb N           cap on resident decoded payload memory (default: none)\n"
-    "  --io-mbps X             emulated link speed for loading (default: unthrottled)\n"
-    "  --io-latency-ms Y       emulated latency per request (a read that goes on where the\n"
-    "                          last one ended, as a node's next chunk, continues it)\n"
-    "  --io-requests N         requests in flight on the emulated link (default 4): the next\n"
-    "                          N-1 nodes in priority order wait out their latency while one\n"
-    "                          streams; 1 requests one node at a time\n"
-    "  --upload-ms MS          per-frame GPU upload budget (default 2)\n"
-    "  --prefetch              prefetch what the path needs 1 s ahead\n"
+    "{budgetMs}\n"
+    "{selector}\n"
+    "{mode}\n"
+    "{size}\n"
+    "{fps}\n"
+    "{frames}\n"
+    "{memoryMb}\n"
+    "{ioMbps}\n"
+    "{ioLatencyMs}\n"
+    "{ioRequests}\n"
+    "{uploadMs}\n"
+    "{prefetch}\n"
     "  --plots                 also levels.svg, toggles.svg, frametime.svg (Lakhia Figs. 7-9)\n"
-    "  --splats on|off         draw nodes smaller than splatPixels (default 4) on screen as\n"
-    "                          their splats, where the store has them (default off)\n"
+    "{splats}\n"
     "  --params N=V,...        selector constants by their names in the code, e.g.\n"
-    "                          c_aim=0.95,c_vis=4,feedbackGain=0.2,ssePixels=16 (defaults and\n"
-    "                          meanings: hlod/include/hlod/runtime/Selector.h; a wrong name lists "
-    "them)\n"
+    "                          c_aim=0.95,c_vis=4,feedbackGain=0.2,ssePixels=16; each has a\n"
+    "                          range (a wrong name or value lists them; meanings:\n"
+    "                          hlod/include/hlod/runtime/Selector.h)\n"
     "  --scene, --quiet, --unlit, --no-textures, --fog   as above\n"
     "\n"
     "environment: HLODR_GL_BACKEND=egl|osmesa forces a GL backend (default: EGL, then OSMesa).\n";
 
-namespace {
-
-// --camera PX,PY,PZ,TX,TY,TZ: six finite numbers, the position apart from the target. The
-// message says which value is wrong.
 hlod::Result<std::array<double, 6>> parseCamera(const std::string& s) {
   const hlod::Error usage =
       hlod::makeError("--camera needs six numbers PX,PY,PZ,TX,TY,TZ, not '" + s + "'");
@@ -105,8 +113,6 @@ hlod::Result<std::array<double, 6>> parseCamera(const std::string& s) {
   return v;
 }
 
-}  // namespace
-
 int runRender(const Argv& argv) {
   auto args = parseWithPathRun(argv, {"unlit", "no-textures", "fog", "quiet"},
                                {"output", "camera", "up", "size", "fov", "path", "scene", "lod"});
@@ -125,33 +131,36 @@ int runRender(const Argv& argv) {
     if (!scene->store.empty())
       model = (std::filesystem::path(*args->get("scene")).parent_path() / scene->store).string();
   }
-  if ((args->positionals().size() != 1 && model.empty()) || !args->has("output")) {
+  if ((args->positionals().size() != 1 && model.empty()) || args->positionals().size() > 1 ||
+      !args->has("output")) {
     const std::size_t n = args->positionals().size();
     const std::string why = n == 0  ? "no MODEL given"
                             : n > 1 ? "give one MODEL, not " + std::to_string(n) + " ('" +
                                           args->positionals()[1] + "' is the second)"
                                     : "an output is required (-o IMAGE, or -o OUT with --path)";
-    std::fprintf(stderr, "hlodr render: %s\n\n%s", why.c_str(), kRenderUsage);
+    std::fprintf(stderr, "hlodr render: %s\n\n%s", why.c_str(), expandUsage(kRenderUsage).c_str());
     return 2;
   }
-  // A node store, or any --path: a camera path run (PathCommand.cpp checks the rest).
-  if (args->has("path") || isNodeStore(model)) return runRenderPath(argv);
+  // Any --path: a camera path run (PathCommand.cpp checks the rest); a node store without one:
+  // one budget-bound frame (RenderStoreCommand.cpp).
+  if (args->has("path")) return runRenderPath(argv);
+  if (isNodeStore(model)) return runRenderStoreFrame(argv);
   for (const auto* names : {&kPathRunOptions, &kPathRunFlags}) {
     for (const std::string& o : *names) {
       if (!args->has(o)) continue;
-      std::fprintf(stderr, "hlodr render: --%s needs a node store and --path\n", o.c_str());
+      std::fprintf(stderr, "hlodr render: --%s needs a node store\n", o.c_str());
       return 2;
     }
   }
   renderer::RenderOptions options;
-  auto size = args->size("size", "1280x720", 1, 8192);
+  auto size = args->size(settings::get("size"));
   if (!size) {
     std::fprintf(stderr, "hlodr render: %s\n", size.message().c_str());
     return 2;
   }
   options.width = size->width;
   options.height = size->height;
-  auto fov = args->number("fov", 50.0, 1.0, 170.0);
+  auto fov = args->number(settings::get("fov"));
   if (!fov) {
     std::fprintf(stderr, "hlodr render: %s\n", fov.message().c_str());
     return 2;

@@ -1,6 +1,7 @@
 // `hlodr serve`: the HTTP service and its page over the node stores of a data folder.
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <thread>
@@ -12,6 +13,7 @@
 #include "service/Args.h"
 #include "service/Progress.h"
 #include "service/Server.h"
+#include "service/Settings.h"
 
 namespace service::cmd {
 
@@ -24,26 +26,34 @@ const char* const kServeUsage =
     "NAME.hlod/ folder is scene NAME). When DIR holds no store, it generates the default city\n"
     "(DIR/city/) and builds its store (DIR/city.hlod/) first, once. Open the printed URL.\n"
     "SIGINT or SIGTERM stop it gracefully: running jobs are cancelled and close their files.\n"
+    "Jobs keep their records and outputs in the jobs folder and are listed again after a\n"
+    "restart; finished ones expire by --keep-jobs-days and --jobs-max-mb.\n"
     "\n"
     "options:\n"
-    "  --port N             TCP port (default 8080; 0: any free port)\n"
-    "  --bind ADDR          address to listen on (default 127.0.0.1; 0.0.0.0 for all)\n"
-    "  --data DIR           the data folder (default hlodr-data; created if missing)\n"
-    "  --workers N          render workers, one GL context each (default 2)\n"
-    "  --job-runners N      path-job runners, one GL context each (default 1)\n"
-    "  --max-sessions N     live viewing sessions at once (default 16)\n"
-    "  --queue N            render requests waiting or running; past it 503 (default 32)\n"
-    "  --max-streams N      job event streams at once; past it 503 (default 16)\n"
-    "  --max-jobs N         jobs queued or running at once (default 8)\n"
-    "  --max-frames N       frames of one job (default 5000)\n"
-    "  --max-size N         largest frame side in pixels (default 4096)\n"
-    "  --memory-mb N        decoded node payloads of all sessions together (default 1024)\n"
-    "  --session-idle-s S   close sessions idle this long (default 120)\n"
-    "  --web DIR            the page's files (default: found beside hlodr or in its source)\n"
-    "  --jobs-dir DIR       where jobs write their frames, videos and stats (default DIR/jobs)\n"
-    "  --quiet              no access log\n"
+    "{serve.port}\n"
+    "{serve.bind}\n"
+    "{serve.data}\n"
+    "{serve.workers}\n"
+    "{serve.jobRunners}\n"
+    "{serve.maxSessions}\n"
+    "{serve.queue}\n"
+    "{serve.maxStreams}\n"
+    "{serve.maxJobs}\n"
+    "{serve.maxFrames}\n"
+    "{serve.maxSize}\n"
+    "{serve.memoryMb}\n"
+    "{serve.glMemoryMb}\n"
+    "{serve.sessionIdleS}\n"
+    "{serve.requestTimeoutS}\n"
+    "{serve.maxConnectionsPerAddress}\n"
+    "{serve.keepJobsDays}\n"
+    "{serve.jobsMaxMb}\n"
+    "{serve.web}\n"
+    "{serve.jobsDir}\n"
+    "  --quiet                 no access log\n"
     "\n"
-    "environment: HLODR_GL_BACKEND=egl|osmesa forces a GL backend.\n";
+    "environment: HLODR_GL_BACKEND=egl|osmesa forces a GL backend; HLODR_DATA is the default\n"
+    "data folder.\n";
 
 namespace {
 
@@ -98,12 +108,32 @@ hlod::Status makeDefaultCity(const fs::path& dir) {
 }  // namespace
 
 int runServe(const Argv& argv) {
-  auto args = Args::parse(
-      argv, {"quiet"},
-      {"port", "bind", "data", "workers", "job-runners", "max-sessions", "queue", "max-streams",
-       "max-jobs", "max-frames", "max-size", "memory-mb", "session-idle-s", "web", "jobs-dir"});
+  const std::vector<std::string> ids = {"serve.port",
+                                        "serve.bind",
+                                        "serve.data",
+                                        "serve.workers",
+                                        "serve.jobRunners",
+                                        "serve.maxSessions",
+                                        "serve.queue",
+                                        "serve.maxStreams",
+                                        "serve.maxJobs",
+                                        "serve.maxFrames",
+                                        "serve.maxSize",
+                                        "serve.memoryMb",
+                                        "serve.glMemoryMb",
+                                        "serve.sessionIdleS",
+                                        "serve.requestTimeoutS",
+                                        "serve.maxConnectionsPerAddress",
+                                        "serve.keepJobsDays",
+                                        "serve.jobsMaxMb",
+                                        "serve.web",
+                                        "serve.jobsDir"};
+  std::set<std::string> options;
+  for (const auto& id : ids) options.insert(settings::get(id).cli);
+  auto args = Args::parse(argv, {"quiet"}, options);
   if (!args) {
-    std::fprintf(stderr, "hlodr serve: %s\n%s", args.message().c_str(), kServeUsage);
+    std::fprintf(stderr, "hlodr serve: %s\n%s", args.message().c_str(),
+                 expandUsage(kServeUsage).c_str());
     return 2;
   }
   if (!args->positionals().empty()) {
@@ -111,31 +141,34 @@ int runServe(const Argv& argv) {
                  args->positionals()[0].c_str());
     return 2;
   }
+  using settings::get;
   ServerOptions o;
-  auto port = args->integer("port", 8080, 0, 65535);
-  auto workers = args->integer("workers", 2, 1, 64);
-  auto runners = args->integer("job-runners", 1, 1, 16);
-  auto sessions = args->integer("max-sessions", 16, 1, 10000);
-  auto queue = args->integer("queue", 32, 1, 100000);
-  auto streams = args->integer("max-streams", 16, 1, 10000);
-  auto jobs = args->integer("max-jobs", 8, 1, 10000);
-  auto frames = args->integer("max-frames", 5000, 1, 10000000);
-  auto size = args->integer("max-size", 4096, 16, 8192);
-  auto memory = args->number("memory-mb", 1024.0, 0.0, 1e7);
-  auto idle = args->integer("session-idle-s", 120, 1, 86400 * 7);
-  for (const auto* r :
-       {&port, &workers, &runners, &sessions, &queue, &streams, &jobs, &frames, &size, &idle})
-    if (!*r) {
-      std::fprintf(stderr, "hlodr serve: %s\n", r->message().c_str());
-      return 2;
-    }
-  if (!memory) {
-    std::fprintf(stderr, "hlodr serve: %s\n", memory.message().c_str());
-    return 2;
-  }
+  auto port = args->integer(get("serve.port"));
+  auto workers = args->integer(get("serve.workers"));
+  auto runners = args->integer(get("serve.jobRunners"));
+  auto sessions = args->integer(get("serve.maxSessions"));
+  auto queue = args->integer(get("serve.queue"));
+  auto streams = args->integer(get("serve.maxStreams"));
+  auto jobs = args->integer(get("serve.maxJobs"));
+  auto frames = args->integer(get("serve.maxFrames"));
+  auto size = args->integer(get("serve.maxSize"));
+  auto idle = args->integer(get("serve.sessionIdleS"));
+  auto timeout = args->integer(get("serve.requestTimeoutS"));
+  auto perAddress = args->integer(get("serve.maxConnectionsPerAddress"));
+  for (const auto* r : {&port, &workers, &runners, &sessions, &queue, &streams, &jobs, &frames,
+                        &size, &idle, &timeout, &perAddress})
+    if (!*r) return usageError("serve", r->message());
+  auto memory = args->number(get("serve.memoryMb"));
+  auto glMemory = args->number(get("serve.glMemoryMb"));
+  auto keepDays = args->number(get("serve.keepJobsDays"));
+  auto jobsMb = args->number(get("serve.jobsMaxMb"));
+  for (const auto* r : {&memory, &glMemory, &keepDays, &jobsMb})
+    if (!*r) return usageError("serve", r->message());
   o.port = int(*port);
-  o.bind = args->get("bind", "127.0.0.1");
-  o.dataDir = args->get("data", "hlodr-data");
+  o.bind = args->get("bind", get("serve.bind").fallback);
+  // The container image sets HLODR_DATA=/data: `hlodr serve` needs no --data there.
+  const char* dataEnv = std::getenv("HLODR_DATA");
+  o.dataDir = args->get("data", dataEnv && *dataEnv ? dataEnv : get("serve.data").fallback);
   o.workers = int(*workers);
   o.jobRunners = int(*runners);
   o.maxSessions = std::size_t(*sessions);
@@ -144,8 +177,13 @@ int runServe(const Argv& argv) {
   o.maxJobs = std::size_t(*jobs);
   o.maxFrames = std::uint64_t(*frames);
   o.maxSize = int(*size);
-  o.cacheBytes = std::uint64_t(*memory * 1024.0 * 1024.0);
+  o.cacheBytes = std::uint64_t(*memory * 1048576.0);
+  o.glMemoryBytes = std::uint64_t(*glMemory * 1048576.0);
   o.sessionIdleSeconds = int(*idle);
+  o.requestTimeoutSeconds = int(*timeout);
+  o.maxConnectionsPerAddress = std::size_t(*perAddress);
+  o.keepJobsDays = *keepDays;
+  o.jobsMaxBytes = std::uint64_t(*jobsMb * 1048576.0);
   o.accessLog = !args->has("quiet");
   o.jobsDir = args->get("jobs-dir", "");
   o.webDir = args->has("web") ? fs::path(args->get("web", "")) : findWebDir();

@@ -7,6 +7,7 @@
 #include "hlod/store/NodeStore.h"
 #include "service/Args.h"
 #include "service/Progress.h"
+#include "service/Settings.h"
 #include "service/Study.h"
 
 namespace service::cmd {
@@ -22,81 +23,56 @@ const char* const kStudyUsage =
     "strip-N.png and index.html (open it in a browser, offline).\n"
     "\n"
     "options:\n"
-    "  --budgets LIST      frame budgets in ms (default 8,16,33,66,133)\n"
-    "  --selectors LIST    lakhia, sse, fs (default all three)\n"
-    "  --sse-px LIST       SSE thresholds in pixels (default 1,2,4,8,16,32)\n"
-    "  --size WxH          frame size (default 640x360)\n"
-    "  --frames N          frames studied, spread evenly over the path (default 24)\n"
-    "  --fps N             the path's frame rate (default 30; realtime runs every frame)\n"
-    "  --mode M            settled (default), realtime or both\n"
-    "  --strips N          frames shown in strips at every Lakhia budget (default 3)\n"
-    "  --memory-mb N       loader memory cap per session (default: none)\n"
-    "  --params N=V,...    selector constants of the studied runs, as for `hlodr render`\n"
-    "                      (splats=1, progressive=0 ...); the reference uses the defaults\n"
-    "  --splats on|off     as `--params splats=1|0`\n"
-    "  --scene FILE        the effects every frame draws (docs/scene.md; default: textures,\n"
-    "                      lambert shading and the sun, as `hlodr render`); or --unlit,\n"
-    "                      --no-textures, --fog\n"
-    "  --quiet             no progress line\n";
-
-namespace {
-
-hlod::Result<std::vector<double>> numberList(const std::string& s, double lo, double hi,
-                                             const char* name) {
-  std::vector<double> out;
-  std::istringstream in(s);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    char* end = nullptr;
-    const double v = std::strtod(item.c_str(), &end);
-    if (item.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
-      return hlod::makeError(std::string("--") + name + ": '" + item + "' is not a number in " +
-                             std::to_string(lo).substr(0, 6) + ".." +
-                             std::to_string(hi).substr(0, 8));
-    out.push_back(v);
-  }
-  if (out.empty()) return hlod::makeError(std::string("--") + name + " is empty");
-  return out;
-}
-
-}  // namespace
+    "{study.budgets}\n"
+    "{study.selectors}\n"
+    "{study.ssePx}\n"
+    "{study.size}\n"
+    "{study.frames}\n"
+    "{fps}\n"
+    "{study.mode}\n"
+    "{study.strips}\n"
+    "{memoryMb}\n"
+    "  --params N=V,...        selector constants of the studied runs, as for `hlodr render`\n"
+    "                          (splats=1, progressive=0 ...); the reference uses the defaults\n"
+    "{splats}\n"
+    "  --scene FILE            the effects every frame draws (docs/scene.md; default: textures,\n"
+    "                          lambert shading and the sun, as `hlodr render`); or --unlit,\n"
+    "                          --no-textures, --fog\n"
+    "  --quiet                 no progress line\n";
 
 int runStudy(const Argv& argv) {
   auto args =
       Args::parse(argv, {"quiet", "unlit", "no-textures", "fog"},
                   {"output", "path", "kind", "budgets", "selectors", "sse-px", "size", "frames",
                    "fps", "mode", "strips", "memory-mb", "scene", "params", "splats"});
-  if (!args) return commandError("study", args.message() + "\n" + kStudyUsage, 2);
+  if (!args) return commandError("study", args.message() + "\n" + expandUsage(kStudyUsage), 2);
   if (args->positionals().size() != 1)
     return commandError(
-        "study", std::string("give one node STORE (made by `hlodr build`)\n") + kStudyUsage, 2);
+        "study", "give one node STORE (made by `hlodr build`)\n" + expandUsage(kStudyUsage), 2);
   if (!args->has("output"))
-    return commandError("study", std::string("-o DIR is required\n") + kStudyUsage, 2);
+    return commandError("study", "-o DIR is required\n" + expandUsage(kStudyUsage), 2);
   if (args->has("path") == args->has("kind"))
     return commandError("study",
                         "give the camera path: --path PATH.json or --kind walk-fly|drive|orbit", 2);
+  using settings::get;
   StudyOptions o;
-  auto budgets = numberList(args->get("budgets", "8,16,33,66,133"), 0.5, 10000, "budgets");
-  auto sse = numberList(args->get("sse-px", "1,2,4,8,16,32"), 0.05, 10000, "sse-px");
+  auto budgets = args->numbers(get("study.budgets"));
+  auto sse = args->numbers(get("study.ssePx"));
+  auto selectors = args->choices(get("study.selectors"));
   if (!budgets) return commandError("study", budgets.message(), 2);
   if (!sse) return commandError("study", sse.message(), 2);
+  if (!selectors) return commandError("study", selectors.message(), 2);
   o.budgets = *budgets;
   o.ssePx = *sse;
-  o.selectors.clear();
-  std::istringstream sels(args->get("selectors", "lakhia,sse,fs"));
-  for (std::string s; std::getline(sels, s, ',');) {
-    if (s != "lakhia" && s != "sse" && s != "fs")
-      return commandError("study", "--selectors: '" + s + "' is not one of lakhia, sse, fs", 2);
-    o.selectors.push_back(s);
-  }
-  auto size = args->size("size", "640x360", 16, 4096);
+  o.selectors = *selectors;
+  auto size = args->size(get("study.size"));
   if (!size) return commandError("study", size.message(), 2);
   o.width = size->width;
   o.height = size->height;
-  auto frames = args->integer("frames", 24, 1, 100000);
-  auto fps = args->number("fps", 30.0, 1.0, 240.0);
-  auto strips = args->integer("strips", 3, 0, 20);
-  auto memory = args->number("memory-mb", 0.0, 0.0, 1e7);
+  auto frames = args->integer(get("study.frames"));
+  auto fps = args->number(get("fps"));
+  auto strips = args->integer(get("study.strips"));
+  auto memory = args->number(get("memoryMb"));
   if (!frames) return commandError("study", frames.message(), 2);
   if (!fps) return commandError("study", fps.message(), 2);
   if (!strips) return commandError("study", strips.message(), 2);
@@ -107,12 +83,12 @@ int runStudy(const Argv& argv) {
   o.memoryCapBytes = std::uint64_t(*memory * 1048576.0);
   if (auto p = hlod::setSelectorParams(o.selectorParams, args->get("params", "")); !p)
     return commandError("study", "--params: " + p.message(), 2);
-  auto splats = args->onOff("splats", o.selectorParams.splats);
+  auto splats = args->choice(get("splats"));
   if (!splats) return commandError("study", splats.message(), 2);
-  o.selectorParams.splats = *splats;
-  const std::string mode = args->get("mode", "settled");
-  if (mode != "settled" && mode != "realtime" && mode != "both")
-    return commandError("study", "--mode must be settled, realtime or both", 2);
+  if (args->has("splats")) o.selectorParams.splats = *splats == "on";
+  auto studyMode = args->choice(get("study.mode"));
+  if (!studyMode) return commandError("study", studyMode.message(), 2);
+  const std::string mode = *studyMode;
   o.settled = mode != "realtime";
   o.realtime = mode != "settled";
   // Stores do not keep the model's up axis yet: the study's paths are Z-up.

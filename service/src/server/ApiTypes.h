@@ -3,6 +3,7 @@
 // its timings, and the render settings a request carries (validated in one place).
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -10,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/FrameStats.h"
 #include "hlod/scene/SceneFile.h"
 #include "renderer/ImageEncoder.h"
@@ -60,7 +62,8 @@ struct RenderSettings {
   nlohmann::json json() const;
 };
 
-// Reads width, height, budgetMs, selector, ssePx (and memoryMb when allowed).
+// Reads width, height, budgetMs, selector, ssePx (and memoryMb when allowed), by the settings
+// table (service/Settings.h); width and height at most maxSize.
 ApiResult<RenderSettings> readRenderSettings(const JsonInput& in, int maxSize, bool memory);
 const std::set<std::string>& renderSettingFields();
 
@@ -70,11 +73,17 @@ struct ImageRequest {
 };
 ApiResult<ImageRequest> readImageRequest(const JsonInput& in);
 
-// A list of numbers in [lo, hi] (the study's budgets, thresholds); fallback when absent.
-ApiResult<std::vector<double>> numbers(const JsonInput& in, const char* name,
-                                       std::vector<double> fallback, double lo, double hi);
-// The "path" field of a job or a study: {"kind", "duration"} or {"keyframes": [...]}.
-ApiResult<nlohmann::json> readPathSpec(const JsonInput& in);
+// The "path" of a job or a study, checked and parsed at the boundary: a path generated for the
+// scene ({"kind": "walk-fly" | "drive" | "orbit", "duration": S}) or keyframes (the camera-path
+// JSON of `hlodr path`, {"keyframes": [...]}).
+struct PathSpec {
+  std::string kind;                                   // "" for keyframes
+  std::optional<double> duration;                     // a generated kind's length, when given
+  std::shared_ptr<const hlod::CameraPath> keyframes;  // when given as keyframes
+  // As the job object shows it: {"kind", "duration"} or "keyframes".
+  nlohmann::json json() const;
+};
+ApiResult<PathSpec> readPathSpec(const JsonInput& in);
 
 struct FrameAnswer {
   std::vector<std::uint8_t> bytes;

@@ -9,7 +9,7 @@
 #include "server/Metrics.h"
 #include "server/RenderWorker.h"
 #include "server/SceneRegistry.h"
-#include "server/Sessions.h"
+#include "server/SessionManager.h"
 
 namespace service::server {
 

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <ctime>
+#include <fstream>
+#include <limits>
+#include <tuple>
 
+#include "hlod/AtomicFile.h"
 #include "hlod/runtime/Framing.h"
 #include "hlod/runtime/PathRun.h"
 #include "renderer/VideoWriter.h"
-#include "server/Sessions.h"
+#include "server/SessionManager.h"
 
 namespace service::server {
 
@@ -29,6 +33,21 @@ const char* jobStateName(JobState s) {
 }
 
 namespace {
+
+constexpr int kRecordVersion = 1;
+
+std::string readText(const fs::path& path, const std::string& fallback) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fallback;
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The seconds since 1970 of utcNow()'s form; 0 for anything else (an old job).
+std::time_t parseUtc(const std::string& text) {
+  std::tm tm{};
+  const char* end = strptime(text.c_str(), "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return end && *end == '\0' ? timegm(&tm) : 0;
+}
 
 std::string utcNow() {
   const std::time_t t = std::time(nullptr);
@@ -75,6 +94,7 @@ void Job::setState(JobState s, const std::string& error) {
     if (!error.empty()) error_ = error;
   }
   cv_.notify_all();
+  saveRecord();
 }
 
 void Job::setProgress(double fraction, const std::string& what) {
@@ -126,16 +146,30 @@ Job::Events Job::eventsFrom(std::size_t from, JobState knownState,
 
 nlohmann::json Job::json() const {
   std::lock_guard lock(mutex_);
+  return jsonLocked();
+}
+
+nlohmann::json Job::jsonLocked() const {
   const std::string base = "/api/jobs/" + id;
   const bool done =
       state_ == JobState::Done || state_ == JobState::Failed || state_ == JobState::Cancelled;
+  const nlohmann::json video =
+      videoReady_ ? nlohmann::json(base + "/video.mp4") : nlohmann::json(nullptr);
+  if (recorded_) {
+    // As it was recorded, with what may have changed since: an interrupted job's state.
+    nlohmann::json j = *recorded_;
+    j["state"] = jobStateName(state_);
+    j["finished"] = done;
+    if (!error_.empty()) j["error"] = error_;
+    if (kind == "path") j["outputs"]["video"] = video;
+    return j;
+  }
   nlohmann::json settingsJson = settings.render.json();
   settingsJson["mode"] = settings.mode == hlod::FrameMode::Settled ? "settled" : "realtime";
   settingsJson["fps"] = settings.fps;
   settingsJson["video"] = settings.video;
   settingsJson["prefetch"] = settings.prefetch;
-  settingsJson["path"] =
-      settings.path.contains("kind") ? settings.path : nlohmann::json("keyframes");
+  settingsJson["path"] = settings.path.json();
   if (kind == "study") {
     nlohmann::json j = {
         {"id", id},
@@ -155,7 +189,7 @@ nlohmann::json Job::json() const {
           {"mode", study.settled && study.realtime ? "both"
                    : study.realtime                ? "realtime"
                                                    : "settled"},
-          {"path", settings.path.contains("kind") ? settings.path : nlohmann::json("keyframes")}}},
+          {"path", settings.path.json()}}},
         {"finished", done},
         {"outputs",
          {{"report", state_ == JobState::Done
@@ -176,8 +210,7 @@ nlohmann::json Job::json() const {
       {"settings", settingsJson},
       {"summary", nlohmann::json::parse(hlod::summaryJson(hlod::summarize(records_)))},
       {"outputs",
-       {{"video", settings.video && state_ == JobState::Done ? nlohmann::json(base + "/video.mp4")
-                                                             : nlohmann::json(nullptr)},
+       {{"video", video},
         {"statsJson", base + "/stats"},
         {"statsCsv", base + "/stats.csv"},
         {"events", base + "/events"},
@@ -188,11 +221,13 @@ nlohmann::json Job::json() const {
 }
 
 std::string Job::statsJson() const {
+  if (recorded_) return readText(dir / "stats.json", "{\"frames\": [], \"summary\": {}}");
   std::lock_guard lock(mutex_);
   return hlod::statsJson(records_, hlod::summarize(records_));
 }
 
 std::string Job::statsCsv() const {
+  if (recorded_) return readText(dir / "stats.csv", "");
   std::lock_guard lock(mutex_);
   return hlod::statsCsv(records_);
 }
@@ -200,9 +235,72 @@ std::string Job::statsCsv() const {
 fs::path Job::framePath(std::uint64_t n) const {
   {
     std::lock_guard lock(mutex_);
-    if (n >= records_.size()) return {};
+    if (n >= frameJson_.size()) return {};
   }
   return dir / "frames" / renderer::ImageSequenceSink::frameName(n, "jpg");
+}
+
+std::uint64_t Job::bytes() const {
+  if (const std::uint64_t known = bytes_.load(); known > 0) return known;
+  std::uint64_t total = 0;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    std::error_code e;
+    if (it->is_regular_file(e)) total += it->file_size(e);
+  }
+  total = std::max<std::uint64_t>(total, 1);
+  if (finished()) bytes_ = total;  // a finished job's folder no longer grows
+  return total;
+}
+
+void Job::saveRecord() const {
+  const nlohmann::json record = {{"record", kRecordVersion},
+                                 {"job", json()},
+                                 {"videoReady", videoReady_.load()},
+                                 {"framesTotal", framesTotal},
+                                 {"sequence", sequence}};
+  // Whole or not at all (a full disk leaves the last record standing); one writer at a time.
+  std::lock_guard lock(recordMutex_);
+  [[maybe_unused]] const auto written = hlod::writeFileAtomically(dir / "job.json", record.dump(1));
+}
+
+hlod::Result<std::shared_ptr<Job>> Job::restore(const fs::path& dir) {
+  const std::string text = readText(dir / "job.json", "");
+  if (text.empty()) return hlod::makeError("no record");
+  const nlohmann::json record = nlohmann::json::parse(text, nullptr, false);
+  if (!record.is_object() || record.value("record", 0) != kRecordVersion ||
+      !record.contains("job") || !record["job"].is_object())
+    return hlod::makeError("not a job record");
+  const nlohmann::json& j = record["job"];
+  auto job = std::make_shared<Job>();
+  job->id = j.value("id", "");
+  job->kind = j.value("kind", "");
+  job->createdAt = j.value("createdAt", "");
+  job->dir = dir;
+  const std::string state = j.value("state", "");
+  if (job->id != dir.filename().string() || (job->kind != "path" && job->kind != "study") ||
+      job->createdAt.empty() || state.empty())
+    return hlod::makeError("not a job record");
+  job->recorded_ = j;
+  job->framesTotal = record.value("framesTotal", std::uint64_t{0});
+  job->sequence = record.value("sequence", std::uint64_t{0});
+  job->videoReady_ = record.value("videoReady", false);
+  if (j.contains("settings") && j["settings"].is_object())
+    job->settings.video = j["settings"].value("video", false);
+  job->state_ = JobState::Failed;
+  for (JobState s : {JobState::Done, JobState::Failed, JobState::Cancelled})
+    if (state == jobStateName(s)) job->state_ = s;
+  if (state == "queued" || state == "running")
+    job->error_ = "interrupted: the server stopped while the job was " + state;
+  // The frames it rendered, for its event stream's replay and its frame routes.
+  if (job->kind == "path") {
+    const nlohmann::json stats =
+        nlohmann::json::parse(readText(dir / "stats.json", ""), nullptr, false);
+    if (stats.is_object() && stats.contains("frames") && stats["frames"].is_array())
+      for (const auto& f : stats["frames"]) job->frameJson_.push_back(f.dump());
+  }
+  return job;
 }
 
 fs::path Job::videoPath() const {
@@ -215,61 +313,52 @@ JobManager::JobManager(std::vector<RenderWorker*> runners, SceneRegistry& scenes
       scenes_(scenes),
       metrics_(metrics),
       jobsDir_(std::move(jobsDir)),
-      limits_(limits) {}
+      limits_(limits) {
+  restoreAll();
+}
 
 JobManager::~JobManager() = default;
 
-ApiResult<std::shared_ptr<hlod::CameraPath>> JobManager::pathOf(const Scene& scene,
-                                                                const JobSettings& settings) {
-  // The path: generated for the scene, or given. A scene file's camera is where an orbit starts.
+ApiResult<std::shared_ptr<const hlod::CameraPath>> JobManager::pathOf(const Scene& scene,
+                                                                      const JobSettings& settings) {
+  // Given as keyframes (parsed by readPathSpec), or generated for the scene: a scene file's
+  // camera is where an orbit starts.
+  const PathSpec& spec = settings.path;
+  if (spec.keyframes) return spec.keyframes;
+  const hlod::Skeleton& sk = scene.store->skeleton();
   hlod::Result<hlod::CameraPath> path = hlod::makeError("no path");
-  if (settings.path.contains("kind")) {
-    const std::string kind = settings.path["kind"].get<std::string>();
-    const hlod::Skeleton& sk = scene.store->skeleton();
-    if (kind == "orbit" && settings.render.camera) {
-      const double aspect = double(settings.render.width) / settings.render.height;
-      path = hlod::makeOrbitPathFrom(scene.defaultCamera(aspect, settings.render.camera),
-                                     hlod::modelUpFrame(sk));
-    } else {
-      path = hlod::makeCameraPath(kind, sk);
-    }
-    if (path && settings.path.contains("duration"))
-      path = hlod::withDuration(*path, settings.path["duration"].get<double>());
+  if (spec.kind == "orbit" && settings.render.camera) {
+    const double aspect = double(settings.render.width) / settings.render.height;
+    path = hlod::makeOrbitPathFrom(scene.defaultCamera(aspect, settings.render.camera),
+                                   hlod::modelUpFrame(sk));
   } else {
-    path = hlod::CameraPath::parse(settings.path.dump());
+    path = hlod::makeCameraPath(spec.kind, sk);
   }
+  if (path && spec.duration) path = hlod::withDuration(*path, *spec.duration);
   if (!path) return badRequest("path: " + path.message());
-  return std::make_shared<hlod::CameraPath>(std::move(*path));
+  return std::make_shared<const hlod::CameraPath>(std::move(*path));
 }
 
-ApiResult<std::shared_ptr<Job>> JobManager::admitJob(const std::shared_ptr<Scene>& scene,
-                                                     JobSettings settings,
-                                                     const std::string& kind) {
-  auto job = std::make_shared<Job>();
-  {
-    std::lock_guard lock(mutex_);
-    std::size_t active = 0;
-    for (const auto& j : jobs_) active += !j->finished();
-    if (active >= limits_.maxJobs)
-      return ApiError{429, "too_many_jobs",
-                      "at most " + std::to_string(limits_.maxJobs) +
-                          " jobs queued or running; wait or cancel one"};
-    do job->id = newId(kind == "study" ? 'a' : 'j');
-    while (
-        std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& j) { return j->id == job->id; }));
-    job->kind = kind;
-    job->scene = scene;
-    job->settings = std::move(settings);
-    job->createdAt = utcNow();
-    job->dir = jobsDir_ / job->id;
-    jobs_.push_back(job);
-  }
+ApiResult<std::shared_ptr<Job>> JobManager::admitJob(std::shared_ptr<Job> job) {
+  // The job comes whole (settings, frame count, study options): once in jobs_, HTTP threads read
+  // it. Only its id, time and folder are set here, under the lock, before it is published.
+  std::lock_guard lock(mutex_);
+  std::size_t active = 0;
+  for (const auto& j : jobs_) active += !j->finished();
+  if (active >= limits_.maxJobs)
+    return ApiError{429, "too_many_jobs",
+                    "at most " + std::to_string(limits_.maxJobs) +
+                        " jobs queued or running; wait or cancel one"};
+  do job->id = newId(job->kind == "study" ? 'a' : 'j');
+  while (std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& j) { return j->id == job->id; }));
+  job->createdAt = utcNow();
+  job->sequence = ++sequence_;
+  job->dir = jobsDir_ / job->id;
   std::error_code ec;
   fs::create_directories(job->dir / "frames", ec);
-  if (ec) {
-    job->setState(JobState::Failed, "cannot create the job's folder: " + ec.message());
-    return ApiError{500, "internal", "cannot create the job's folder: " + ec.message()};
-  }
+  if (ec) return ApiError{500, "internal", "cannot create the job's folder: " + ec.message()};
+  jobs_.push_back(job);
+  job->saveRecord();
   return job;
 }
 
@@ -284,7 +373,11 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
                                              JobSettings settings) {
   auto path = pathOf(*scene, settings);
   if (!path) return path.error();
-  auto count = (*path)->frameCount(settings.fps);
+  // One rule with `hlodr render --path --frames`: a path may be of any length when "frames"
+  // takes only its first frames; the frames rendered are what --max-frames bounds.
+  auto count = (*path)->frameCount(settings.fps, settings.frames >= 0
+                                                     ? std::numeric_limits<std::uint64_t>::max()
+                                                     : hlod::kMaxPathFrames);
   if (!count) return badRequest("path: " + count.message());
   std::uint64_t total = *count;
   if (settings.frames >= 0) total = std::min<std::uint64_t>(total, settings.frames);
@@ -294,11 +387,15 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
                       std::to_string(limits_.maxFrames) + " (give \"frames\" or a lower fps)");
   if (settings.video && (settings.render.width % 2 || settings.render.height % 2))
     return badRequest("video: an MP4 needs an even width and height");
-  auto admitted = admitJob(scene, std::move(settings), "path");
+  auto made = std::make_shared<Job>();
+  made->kind = "path";
+  made->scene = scene;
+  made->settings = std::move(settings);
+  made->framesTotal = total;
+  auto admitted = admitJob(std::move(made));
   if (!admitted) return admitted.error();
   std::shared_ptr<Job> job = *admitted;
-  job->framesTotal = total;
-  std::shared_ptr<hlod::CameraPath> shared = *path;
+  std::shared_ptr<const hlod::CameraPath> shared = *path;
   leastBusyRunner()->post([this, job, shared](renderer::GlContext& gl) {
     if (job->cancel) {
       job->setState(JobState::Cancelled);
@@ -307,7 +404,7 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
     job->setState(JobState::Running);
     runPathJob(job, *shared, gl);
   });
-  trimFinished();
+  expire();
   return job->json();
 }
 
@@ -321,11 +418,15 @@ ApiResult<nlohmann::json> JobManager::submitStudy(const std::shared_ptr<Scene>& 
     return badRequest(
         "a realtime study renders every frame of the path: " + std::to_string(*count) +
         " frames, more than the server's limit of " + std::to_string(limits_.maxFrames));
-  auto admitted = admitJob(scene, std::move(settings), "study");
+  auto made = std::make_shared<Job>();
+  made->kind = "study";
+  made->scene = scene;
+  made->settings = std::move(settings);
+  made->study = std::move(study);
+  auto admitted = admitJob(std::move(made));
   if (!admitted) return admitted.error();
   std::shared_ptr<Job> job = *admitted;
-  job->study = std::move(study);
-  std::shared_ptr<hlod::CameraPath> shared = *path;
+  std::shared_ptr<const hlod::CameraPath> shared = *path;
   leastBusyRunner()->post([job, shared](renderer::GlContext& gl) {
     if (job->cancel) {
       job->setState(JobState::Cancelled);
@@ -342,7 +443,7 @@ ApiResult<nlohmann::json> JobManager::submitStudy(const std::shared_ptr<Scene>& 
     else
       job->setState(job->cancel ? JobState::Cancelled : JobState::Failed, report.message());
   });
-  trimFinished();
+  expire();
   return job->json();
 }
 
@@ -379,10 +480,13 @@ void JobManager::runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraP
   job->scene->rememberVTime(job->settings.render.width, job->settings.render.height,
                             (*session)->selector().vTime());
   session->reset();  // on this thread, with its context current
-  if (!ran)
+  if (!ran) {
     job->setState(JobState::Failed, ran.message());
-  else
+  } else {
+    // Every sink finished: the video, if any, is a closed MP4 of the frames rendered.
+    job->videoReady_ = job->settings.video && ran->framesRendered > 0;
     job->setState(ran->cancelled ? JobState::Cancelled : JobState::Done);
+  }
 }
 
 std::vector<std::shared_ptr<Job>> JobManager::list() const {
@@ -413,26 +517,77 @@ ApiResult<bool> JobManager::cancelOrRemove(const std::string& id) {
   return false;
 }
 
-void JobManager::trimFinished() {
-  std::vector<std::shared_ptr<Job>> gone;
+void JobManager::restoreAll() {
+  std::error_code ec;
+  std::vector<std::shared_ptr<Job>> found;
+  for (const auto& e : fs::directory_iterator(jobsDir_, ec)) {
+    std::error_code e2;
+    if (!e.is_directory(e2)) continue;
+    auto job = Job::restore(e.path());
+    if (job) {
+      found.push_back(*job);
+      continue;
+    }
+    // A job's folder without its record (written by an older server, or by one that died while
+    // admitting it): nobody can reach it; it goes once it is as old as a finished job would.
+    const std::string name = e.path().filename().string();
+    const bool jobName = name.size() == 9 && (name[0] == 'j' || name[0] == 'a') &&
+                         name.find_first_not_of("0123456789abcdef", 1) == std::string::npos;
+    const auto written = fs::last_write_time(e.path(), e2);
+    if (jobName && !e2 && limits_.keepDays > 0 &&
+        fs::file_time_type::clock::now() - written >
+            std::chrono::duration<double>(limits_.keepDays * 86400.0))
+      fs::remove_all(e.path(), e2);
+  }
+  // In the order they were made (createdAt has whole seconds: the sequence breaks ties).
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) {
+    return std::tie(a->createdAt, a->sequence) < std::tie(b->createdAt, b->sequence);
+  });
   {
     std::lock_guard lock(mutex_);
-    std::size_t finished = 0;
-    for (const auto& j : jobs_) finished += j->finished();
-    for (auto it = jobs_.begin(); it != jobs_.end() && finished > limits_.keepFinished;) {
-      if ((*it)->finished()) {
-        gone.push_back(*it);
-        it = jobs_.erase(it);
-        --finished;
-      } else {
-        ++it;
-      }
-    }
+    jobs_ = std::move(found);
+    for (const auto& j : jobs_) sequence_ = std::max(sequence_, j->sequence);
+  }
+  restored_ = jobs_.size();
+  // An interrupted job's record says so from now on.
+  for (const auto& j : jobs_)
+    if (j->recorded_ && j->recorded_->value("state", "") != jobStateName(j->state()))
+      j->saveRecord();
+  expire();
+}
+
+std::size_t JobManager::expire() {
+  std::vector<std::shared_ptr<Job>> finished;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& j : jobs_)
+      if (j->finished()) finished.push_back(j);  // oldest first
+  }
+  // Sizes and ages outside the lock: the first count of a folder reads the disk.
+  const std::time_t now = std::time(nullptr);
+  std::vector<std::shared_ptr<Job>> gone;
+  std::uint64_t total = 0;
+  for (const auto& j : finished) total += j->bytes();
+  std::size_t left = finished.size();
+  for (const auto& j : finished) {
+    const bool old =
+        limits_.keepDays > 0 && double(now - parseUtc(j->createdAt)) > limits_.keepDays * 86400.0;
+    const bool tooMany = left > limits_.keepFinished;
+    const bool tooLarge = limits_.maxBytes > 0 && total > limits_.maxBytes;
+    if (!old && !tooMany && !tooLarge) continue;
+    gone.push_back(j);
+    --left;
+    total -= j->bytes();
+  }
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& j : gone) std::erase(jobs_, j);
   }
   for (const auto& j : gone) {
     std::error_code ec;
     fs::remove_all(j->dir, ec);
   }
+  return gone.size();
 }
 
 std::map<std::string, double> JobManager::countByState() const {

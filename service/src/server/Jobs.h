@@ -3,12 +3,20 @@
 // so that long jobs never hold up interactive frames), into the job's folder: JPEG frames, an
 // optional MP4, stats.json and stats.csv. Every frame's record is kept (a job has at most
 // --max-frames) for the event stream, which replays them to a client that joins late.
+//
+// A job's outputs are the user's data: each job keeps its record (job.json, its API object) in
+// its folder, written at every change of state, and a server started on the same jobs folder
+// lists the jobs again with their frames, stats, video and reports. A job that was queued or
+// running when the server stopped shows as cancelled (SIGTERM cancels it and it writes that) or,
+// when the server died without a word, as failed. Finished jobs expire by a documented rule
+// (JobLimits): older than keepDays, or the oldest past maxBytes in all, or past keepFinished.
 #include <atomic>
 #include <condition_variable>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,13 +40,15 @@ struct JobSettings {
   long long frames = -1;  // render only the first N; < 0: all
   bool video = false;
   bool prefetch = false;
-  nlohmann::json path;  // as given: {"kind": ...} or {"keyframes": [...]}
+  PathSpec path;
 };
 
 struct JobLimits {
   std::size_t maxJobs = 8;         // queued or running
   std::uint64_t maxFrames = 5000;  // per job
   std::size_t keepFinished = 50;   // older finished jobs are removed with their files
+  double keepDays = 7.0;           // finished jobs older than this are removed (0: never)
+  std::uint64_t maxBytes = 0;      // the oldest finished jobs go past this in all (0: no cap)
 };
 
 enum class JobState { Queued, Running, Done, Failed, Cancelled };
@@ -53,6 +63,7 @@ class Job {
   std::string createdAt;
   std::filesystem::path dir;
   std::uint64_t framesTotal = 0;
+  std::uint64_t sequence = 0;  // the order jobs were made in, across restarts
 
   JobState state() const;
   bool finished() const;
@@ -70,7 +81,14 @@ class Job {
   std::string statsCsv() const;
   std::filesystem::path framePath(std::uint64_t n) const;  // empty while not rendered
   std::filesystem::path videoPath() const;
+  // The MP4 is closed and holds frames: the job is done, or was cancelled after its first frame.
+  bool videoReady() const { return videoReady_.load(); }
   std::atomic<bool> cancel{false};
+  // The bytes of its folder, counted once it has finished (for JobLimits::maxBytes).
+  std::uint64_t bytes() const;
+  // A job of an earlier run of the server, from its folder's record; an Error for a folder
+  // without one or with one that cannot be read.
+  static hlod::Result<std::shared_ptr<Job>> restore(const std::filesystem::path& dir);
 
   // The runner's side.
   void setState(JobState s, const std::string& error = "");
@@ -79,8 +97,11 @@ class Job {
   void setProgress(double fraction, const std::string& what);
   std::filesystem::path reportFile(const std::string& name) const;  // empty: no such file
   StudyOptions study;
+  // Writes the record (job.json) now: the runner calls it as the job's state changes.
+  void saveRecord() const;
 
  private:
+  nlohmann::json jsonLocked() const;  // json(), with mutex_ held
   mutable std::mutex mutex_;
   mutable std::condition_variable cv_;
   JobState state_ = JobState::Queued;
@@ -89,6 +110,13 @@ class Job {
   std::vector<std::string> frameJson_;
   double progress_ = 0.0;
   std::string doing_;
+  std::atomic<bool> videoReady_{false};
+  // A restored job: its API object as recorded (the scene it ran may be gone), and the stats
+  // files it wrote.
+  std::optional<nlohmann::json> recorded_;
+  mutable std::atomic<std::uint64_t> bytes_{0};
+  mutable std::mutex recordMutex_;  // one writer of job.json at a time
+  friend class JobManager;
 };
 
 class JobManager {
@@ -106,16 +134,21 @@ class JobManager {
   // Cancels a queued or running job (true); removes a finished one with its files (false).
   ApiResult<bool> cancelOrRemove(const std::string& id);
   std::map<std::string, double> countByState() const;
+  std::size_t restored() const { return restored_; }  // jobs found in the folder at start
+  // Removes the finished jobs that JobLimits says go (age, bytes, count), with their folders;
+  // returns how many.
+  std::size_t expire();
   // Cancels every job and waits until the running ones have written what they had.
   void shutdown();
 
  private:
   void runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
                   renderer::GlContext& context);
-  void trimFinished();
-  ApiResult<std::shared_ptr<Job>> admitJob(const std::shared_ptr<Scene>& scene, JobSettings s,
-                                           const std::string& kind);
-  ApiResult<std::shared_ptr<hlod::CameraPath>> pathOf(const Scene& scene, const JobSettings& s);
+  void restoreAll();
+  // Gives the job its id and folder and publishes it; 429 past --max-jobs.
+  ApiResult<std::shared_ptr<Job>> admitJob(std::shared_ptr<Job> job);
+  ApiResult<std::shared_ptr<const hlod::CameraPath>> pathOf(const Scene& scene,
+                                                            const JobSettings& s);
   RenderWorker* leastBusyRunner() const;
 
   std::vector<RenderWorker*> runners_;
@@ -125,6 +158,8 @@ class JobManager {
   JobLimits limits_;
   mutable std::mutex mutex_;
   std::vector<std::shared_ptr<Job>> jobs_;  // oldest first
+  std::size_t restored_ = 0;
+  std::uint64_t sequence_ = 0;  // the last job's Job::sequence
 };
 
 }  // namespace service::server

@@ -1,5 +1,7 @@
 #include "server/JsonInput.h"
 
+#include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 
@@ -124,6 +126,80 @@ hlod::Result<glm::dvec3> JsonInput::vec3(const char* name) const {
   return out;
 }
 
+namespace {
+
+std::string fieldOf(const Setting& s) {
+  return s.api.substr(s.api.rfind('.') + 1);
+}
+
+}  // namespace
+
+hlod::Result<double> JsonInput::number(const Setting& s) const {
+  assert(s.kind == Setting::Kind::Number);
+  return number(fieldOf(s).c_str(), s.fallbackNumber(), s.lo, s.hi);
+}
+
+hlod::Result<long long> JsonInput::integer(const Setting& s, long long hi) const {
+  assert(s.kind == Setting::Kind::Integer);
+  const auto top = static_cast<long long>(s.hi);
+  return integer(fieldOf(s).c_str(), static_cast<long long>(s.fallbackNumber()),
+                 static_cast<long long>(s.lo), hi > 0 ? std::min(hi, top) : top);
+}
+
+hlod::Result<std::string> JsonInput::choice(const Setting& s) const {
+  assert(s.kind == Setting::Kind::Choice);
+  const std::string name = fieldOf(s);
+  if (!json_.contains(name)) return s.fallback;
+  const auto& v = json_[name];
+  if (v.is_string())
+    for (const std::string& c : s.choices)
+      if (v.get<std::string>() == c) return c;
+  return hlod::makeError(where(name.c_str()) + ": must be " + s.range());
+}
+
+hlod::Result<bool> JsonInput::boolean(const Setting& s) const {
+  assert(s.kind == Setting::Kind::Flag);
+  return boolean(fieldOf(s).c_str(), s.fallback == "on");
+}
+
+hlod::Result<std::vector<double>> JsonInput::numbers(const Setting& s) const {
+  assert(s.kind == Setting::Kind::NumberList);
+  const std::string name = fieldOf(s);
+  std::vector<double> out;
+  if (!json_.contains(name)) {
+    for (const std::string& item : splitList(s.fallback))
+      out.push_back(std::strtod(item.c_str(), nullptr));
+    return out;
+  }
+  const auto& v = json_[name];
+  const std::string err = where(name.c_str()) + ": must be " + s.range();
+  if (!v.is_array() || v.empty() || v.size() > 16) return hlod::makeError(err);
+  for (const auto& x : v) {
+    if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < s.lo ||
+        x.get<double>() > s.hi)
+      return hlod::makeError(err);
+    out.push_back(x.get<double>());
+  }
+  return out;
+}
+
+hlod::Result<std::vector<std::string>> JsonInput::choices(const Setting& s) const {
+  assert(s.kind == Setting::Kind::ChoiceList);
+  const std::string name = fieldOf(s);
+  std::vector<std::string> out;
+  if (!json_.contains(name)) return splitList(s.fallback);
+  const auto& v = json_[name];
+  const std::string err = where(name.c_str()) + ": must be " + s.range();
+  if (!v.is_array() || v.empty() || v.size() > s.choices.size()) return hlod::makeError(err);
+  for (const auto& x : v) {
+    if (!x.is_string() ||
+        std::find(s.choices.begin(), s.choices.end(), x.get<std::string>()) == s.choices.end())
+      return hlod::makeError(err);
+    out.push_back(x.get<std::string>());
+  }
+  return out;
+}
+
 hlod::Result<hlod::Camera> cameraFrom(const nlohmann::json& camera, const hlod::Camera& fallback) {
   auto in = JsonInput::of(camera, "camera", {"position", "target", "up", "fov"});
   if (!in) return in.error();
@@ -144,7 +220,8 @@ hlod::Result<hlod::Camera> cameraFrom(const nlohmann::json& camera, const hlod::
     if (glm::length(*u) < 1e-9) return hlod::makeError("camera.up: must not be zero");
     c.up = glm::normalize(*u);
   }
-  auto fov = in->number("fov", c.fovY, 1.0, 170.0);
+  const Setting& fovRange = settings::get("fov");
+  auto fov = in->number("fov", c.fovY, fovRange.lo, fovRange.hi);
   if (!fov) return fov.error();
   c.fovY = *fov;
   const glm::dvec3 d = c.target - c.position;

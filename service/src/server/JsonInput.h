@@ -6,11 +6,13 @@
 #include <initializer_list>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "hlod/Result.h"
 #include "hlod/runtime/Camera.h"
+#include "service/Settings.h"
 
 namespace service::server {
 
@@ -33,6 +35,16 @@ class JsonInput {
                                    std::initializer_list<const char*> allowed) const;
   hlod::Result<std::string> string(const char* name, std::size_t maxLength) const;  // required
   hlod::Result<glm::dvec3> vec3(const char* name) const;                            // required
+
+  // A setting of the table (service/Settings.h) by its field (Setting::api after its last '.'):
+  // its default when absent, an Error naming the field and its range otherwise. hi lowers the
+  // table's upper bound (width and height: --max-size).
+  hlod::Result<double> number(const Setting& s) const;
+  hlod::Result<long long> integer(const Setting& s, long long hi = 0) const;
+  hlod::Result<std::string> choice(const Setting& s) const;
+  hlod::Result<bool> boolean(const Setting& s) const;
+  hlod::Result<std::vector<double>> numbers(const Setting& s) const;
+  hlod::Result<std::vector<std::string>> choices(const Setting& s) const;
 
  private:
   std::string where(const char* name) const { return prefix_ + name; }

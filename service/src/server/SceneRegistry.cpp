@@ -11,16 +11,7 @@ namespace fs = std::filesystem;
 
 hlod::Camera Scene::defaultCamera(double aspect,
                                   const std::optional<hlod::SceneCamera>& sceneCamera) const {
-  hlod::Aabb bounds;
-  const hlod::Skeleton& sk = store->skeleton();
-  for (std::uint32_t r : sk.roots) bounds.extend(sk.nodes[r].bounds);
-  const CameraPose pose = service::defaultCamera(bounds, sk.up, 50.0, aspect);
-  hlod::Camera c;
-  c.position = pose.position;
-  c.target = pose.target;
-  c.up = pose.up;
-  c.fovY = pose.fovY;
-  c.aspect = aspect;
+  hlod::Camera c = service::storeCamera(store->skeleton(), 50.0, aspect);
   if (sceneCamera) {
     c.position = sceneCamera->position;
     c.target = sceneCamera->target;

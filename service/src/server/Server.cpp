@@ -5,10 +5,16 @@
 
 #include <chrono>
 #include <cstdio>
+#include <future>
 #include <thread>
 
+#include <sys/resource.h>
+
 #include "renderer/VideoWriter.h"
+#include "server/ApiReply.h"
+#include "server/GlMemory.h"
 #include "server/HttpApi.h"
+#include "server/HttpServer.h"
 
 namespace service {
 
@@ -34,11 +40,12 @@ struct Server::Impl {
   Log log;
   Metrics metrics;
   std::unique_ptr<SceneRegistry> scenes;
+  std::unique_ptr<GlMemory> glMemory;
   std::vector<std::unique_ptr<RenderWorker>> workers, runners;
   std::unique_ptr<SessionManager> sessions;
   std::unique_ptr<JobManager> jobs;
   std::unique_ptr<ApiContext> api;
-  httplib::Server http;
+  std::unique_ptr<HttpServer> http;
   int port = 0;
   std::thread reaper;
   std::mutex reaperMutex;
@@ -90,15 +97,22 @@ hlod::Result<std::unique_ptr<Server>> Server::create(const ServerOptions& o, Log
   sl.maxSessions = o.maxSessions;
   sl.idleTimeout = std::chrono::seconds(o.sessionIdleSeconds);
   sl.renderTimeout = std::chrono::seconds(o.renderTimeoutSeconds);
-  m.sessions = std::make_unique<SessionManager>(workers, *m.scenes, m.metrics, sl);
+  sl.now = o.clock;
+  m.glMemory = std::make_unique<GlMemory>(o.glMemoryBytes);
+  m.sessions = std::make_unique<SessionManager>(workers, *m.scenes, m.metrics, *m.glMemory, sl);
   JobLimits jl;
   jl.maxJobs = o.maxJobs;
   jl.maxFrames = o.maxFrames;
+  jl.keepDays = o.keepJobsDays;
+  jl.maxBytes = o.jobsMaxBytes;
   const fs::path jobsDir = o.jobsDir.empty() ? o.dataDir / "jobs" : o.jobsDir;
   fs::create_directories(jobsDir, ec);
   if (!fs::is_directory(jobsDir, ec))
     return hlod::makeError("cannot create the jobs folder " + jobsDir.string());
   m.jobs = std::make_unique<JobManager>(runners, *m.scenes, m.metrics, jobsDir, jl);
+  if (m.jobs->restored() > 0)
+    m.log(std::to_string(m.jobs->restored()) + " job(s) of an earlier run listed again from " +
+          jobsDir.string());
 
   m.api = std::make_unique<ApiContext>(*m.scenes, *m.sessions, *m.jobs, m.metrics, workers);
   ApiContext& api = *m.api;
@@ -132,6 +146,11 @@ hlod::Result<std::unique_ptr<Server>> Server::create(const ServerOptions& o, Log
                   [impl, one] { return one(double(impl->api->streams.load())); });
   m.metrics.gauge("hlodr_resident_bytes", "Decoded node payloads in memory, all sessions", "gauge",
                   [impl, one] { return one(double(impl->scenes->cache()->liveBytes())); });
+  m.metrics.gauge("hlodr_gl_bytes",
+                  "GL memory of the sessions and warm contexts: render targets and GPU copies",
+                  "gauge", [impl, one] { return one(double(impl->glMemory->used())); });
+  m.metrics.gauge("hlodr_gl_cap_bytes", "Cap on the GL memory (--gl-memory-mb; 0: none)", "gauge",
+                  [impl, one] { return one(double(impl->glMemory->cap())); });
   m.metrics.gauge("hlodr_cache_cap_bytes", "Cap on the decoded node payloads (0: none)", "gauge",
                   [impl, one] { return one(double(impl->scenes->cache()->capBytes())); });
   m.metrics.gauge("hlodr_loads_total", "Node payloads read and decoded", "counter",
@@ -142,22 +161,45 @@ hlod::Result<std::unique_ptr<Server>> Server::create(const ServerOptions& o, Log
   m.metrics.gauge("hlodr_cache_hits_total", "Node loads served by another session's decoded copy",
                   "counter", [impl, one] { return one(double(impl->scenes->cache()->hits())); });
 
-  // HTTP: a pool sized for the event streams (each holds a thread while it lasts) plus room for
-  // the requests that wait on a render.
-  const std::size_t threads = o.maxStreams + std::max<std::size_t>(8, o.queue / 2 + 2);
-  m.http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-  m.http.set_payload_max_length(1 << 20);
-  m.http.set_read_timeout(10, 0);
-  m.http.set_write_timeout(10, 0);
-  m.http.set_keep_alive_max_count(1000);
+  // HTTP: threads for the event streams (each holds one while it lasts) plus room for the
+  // requests that wait on a render; connections wait for their request in the Reception.
+  ReceptionOptions ro;
+  ro.threads = o.maxStreams + std::max<std::size_t>(8, o.queue / 2 + 2);
+  ro.requestTimeout = std::chrono::seconds(o.requestTimeoutSeconds);
+  ro.maxPerAddress = o.maxConnectionsPerAddress;
+  ro.maxConnections = o.maxConnections;
+  // Each connection is a file descriptor: leave room for the stores, jobs and encoders.
+  rlimit files{};
+  if (getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur != RLIM_INFINITY &&
+      ro.maxConnections + 256 > files.rlim_cur) {
+    ro.maxConnections = std::max<std::size_t>(16, std::size_t(files.rlim_cur) - 256);
+    m.log("at most " + std::to_string(ro.maxConnections) + " connections (ulimit -n is " +
+          std::to_string(files.rlim_cur) + ")");
+  }
+  m.http = std::make_unique<HttpServer>(ro, [impl](const char* reason) {
+    impl->metrics.add("hlodr_rejected_total", std::string("reason=\"") + reason + "\"");
+  });
+  m.metrics.gauge("hlodr_connections", "Open client connections", "gauge",
+                  [impl, one] { return one(double(impl->http->openConnections())); });
+  m.http->set_payload_max_length(1 << 20);
+  m.http->set_write_timeout(10, 0);
+  m.http->set_keep_alive_max_count(1000);
   // A frame goes out as headers then body: with Nagle's algorithm the body waits for the
   // client's delayed ACK (40 ms on Linux), on the order of the frame's own time.
-  m.http.set_tcp_nodelay(true);
-  m.http.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
+  m.http->set_tcp_nodelay(true);
+  m.http->set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
     requestStart = Clock::now();
+    // httplib decodes %00 into the path, and its file handler then opened the name up to the
+    // NUL with the type of the whole name: /index.html%00.js served the page as JavaScript.
+    for (const char c : req.path) {
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+        sendError(res, badRequest("the path holds a control character"));
+        return httplib::Server::HandlerResponse::Handled;
+      }
+    }
     return httplib::Server::HandlerResponse::Unhandled;
   });
-  m.http.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+  m.http->set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (!res.body.empty()) return;
     const char* code = res.status == 404   ? "not_found"
                        : res.status == 413 ? "too_large"
@@ -170,7 +212,7 @@ hlod::Result<std::unique_ptr<Server>> Server::create(const ServerOptions& o, Log
     res.set_content(nlohmann::json{{"error", {{"code", code}, {"message", message}}}}.dump(),
                     "application/json");
   });
-  m.http.set_exception_handler(
+  m.http->set_exception_handler(
       [impl](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
         std::string what = "unknown";
         try {
@@ -184,7 +226,7 @@ hlod::Result<std::unique_ptr<Server>> Server::create(const ServerOptions& o, Log
         res.set_content(nlohmann::json{{"error", {{"code", "internal"}, {"message", what}}}}.dump(),
                         "application/json");
       });
-  m.http.set_logger([impl](const httplib::Request& req, const httplib::Response& res) {
+  m.http->set_logger([impl](const httplib::Request& req, const httplib::Response& res) {
     const double ms = msSince(requestStart);
     impl->metrics.observeRequest(ms * 1e-3);
     impl->metrics.add("hlodr_http_requests_total",
@@ -198,11 +240,11 @@ hlod::Result<std::unique_ptr<Server>> Server::create(const ServerOptions& o, Log
                   res.status, ms);
     impl->log(line);
   });
-  installRoutes(m.http, api);
+  installRoutes(*m.http, api);
   if (!o.webDir.empty()) {
-    if (!m.http.set_mount_point("/", o.webDir.string()))
+    if (!m.http->set_mount_point("/", o.webDir.string()))
       return hlod::makeError("cannot serve the page from " + o.webDir.string());
-    m.http.set_file_request_handler([](const httplib::Request&, httplib::Response& res) {
+    m.http->set_file_request_handler([](const httplib::Request&, httplib::Response& res) {
       res.set_header("Cache-Control", "no-cache");
     });
   }
@@ -216,11 +258,7 @@ Server::~Server() {
 
 hlod::Result<int> Server::bind() {
   Impl& m = *impl_;
-  if (m.options.port == 0) {
-    m.port = m.http.bind_to_any_port(m.options.bind);
-  } else {
-    m.port = m.http.bind_to_port(m.options.bind, m.options.port) ? m.options.port : -1;
-  }
+  m.port = m.http->bind(m.options.bind, m.options.port);
   if (m.port <= 0)
     return hlod::makeError("cannot listen on " + m.options.bind + ":" +
                            std::to_string(m.options.port) + " (in use, or not an address here)");
@@ -242,10 +280,12 @@ void Server::run() {
       lock.unlock();
       if (std::size_t n = m.sessions->expireIdle(); n > 0)
         m.log(std::to_string(n) + " idle session(s) closed");
+      if (std::size_t n = m.jobs->expire(); n > 0)
+        m.log(std::to_string(n) + " finished job(s) expired (--keep-jobs-days, --jobs-max-mb)");
       lock.lock();
     }
   });
-  m.http.listen_after_bind();
+  m.http->serve();  // until stop(); then the requests being served end
   // Stopped: shut down in order. Jobs first (their runners close the video and write the stats
   // of the frames so far), then sessions on their workers, then the workers.
   m.api->stopping = true;
@@ -261,6 +301,17 @@ void Server::run() {
   m.log("stopped");
 }
 
+std::size_t Server::closeIdleSessions() {
+  return impl_->sessions->expireIdle();
+}
+
+std::shared_ptr<void> Server::holdWorkers() {
+  auto gate = std::make_shared<std::promise<void>>();
+  std::shared_future<void> open = gate->get_future().share();
+  for (auto& w : impl_->workers) w->post([open](renderer::GlContext&) { open.wait(); });
+  return std::shared_ptr<void>(nullptr, [gate](void*) { gate->set_value(); });
+}
+
 void Server::stop() {
   if (!impl_ || impl_->stopped.exchange(true)) return;
   impl_->api->stopping = true;
@@ -270,7 +321,7 @@ void Server::stop() {
   const auto deadline = Clock::now() + std::chrono::seconds(3);
   while (impl_->api->streams.load() > 0 && Clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  impl_->http.stop();
+  impl_->http->stop();
 }
 
 }  // namespace service

@@ -8,6 +8,7 @@
 // again for every request, and the selector's v_time stays calibrated.
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "server/ApiTypes.h"
+#include "server/GlMemory.h"
 #include "server/Metrics.h"
 #include "server/RenderWorker.h"
 #include "server/SceneRegistry.h"
@@ -24,8 +26,9 @@ namespace service::server {
 
 struct SessionLimits {
   std::size_t maxSessions = 16;
-  std::chrono::seconds idleTimeout{120};
+  std::chrono::seconds idleTimeout{120};    // sessions and warm render contexts
   std::chrono::seconds renderTimeout{120};  // longest wait for one frame
+  std::function<Clock::time_point()> now = [] { return Clock::now(); };  // idle time's clock
 };
 
 class SessionManager {
@@ -33,7 +36,7 @@ class SessionManager {
   static constexpr std::size_t kWarmPerWorker = 4;
 
   SessionManager(std::vector<RenderWorker*> workers, SceneRegistry& scenes, Metrics& metrics,
-                 SessionLimits limits);
+                 GlMemory& glMemory, SessionLimits limits);
   ~SessionManager();
 
   ApiResult<nlohmann::json> create(const std::shared_ptr<Scene>& scene,
@@ -42,11 +45,13 @@ class SessionManager {
   ApiResult<FrameAnswer> frame(const std::string& id, const nlohmann::json& camera, bool still,
                                const ImageRequest& image);
   ApiResult<nlohmann::json> info(const std::string& id);
+  // Destroys the session on its worker and waits for it: its GL memory is free on return.
   bool remove(const std::string& id);
   ApiResult<FrameAnswer> renderOnce(const std::shared_ptr<Scene>& scene,
                                     const RenderSettings& settings, const hlod::Camera& camera,
                                     hlod::FrameMode mode, const ImageRequest& image);
-  // Closes sessions idle longer than the limit; returns how many.
+  // Closes sessions idle longer than the limit, by the limits' clock, and drops warm render
+  // contexts as idle; returns how many sessions.
   std::size_t expireIdle();
   std::size_t count() const;
   // Destroys every session on its worker (before the workers stop).
@@ -56,6 +61,9 @@ class SessionManager {
   struct Live;
   struct Warm;
   std::size_t leastBusyWorker() const;
+  // A lease of GL memory for a session of these settings: on the worker's thread (w), where
+  // warm contexts of that worker are dropped, least recently used first, to make room.
+  ApiResult<GlMemory::Lease> leaseFor(const RenderSettings& settings, std::size_t w);
   ApiResult<FrameAnswer> draw(Session& session, Scene& scene, const hlod::CameraSample& sample,
                               hlod::FrameMode mode, const ImageRequest& image,
                               Clock::time_point posted);
@@ -63,6 +71,7 @@ class SessionManager {
   std::vector<RenderWorker*> workers_;
   SceneRegistry& scenes_;
   Metrics& metrics_;
+  GlMemory& glMemory_;
   SessionLimits limits_;
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Live>> live_;

@@ -1,8 +1,12 @@
-#include "server/Sessions.h"
+#include "server/SessionManager.h"
+
+#include <malloc.h>
 
 #include <algorithm>
 #include <future>
 #include <random>
+
+#include "renderer/Renderer.h"
 
 namespace service::server {
 
@@ -34,12 +38,13 @@ hlod::Result<std::unique_ptr<Session>> openSession(Scene& scene, const RenderSet
   return Session::create(scene.store, o, context);
 }
 
-// A client's viewing session. `session` is touched only on its worker's thread.
+// A client's viewing session. `session` and `gl` are touched only on its worker's thread.
 struct SessionManager::Live {
   std::string id;
   std::shared_ptr<Scene> scene;
   RenderSettings settings;
   std::size_t worker = 0;
+  GlMemory::Lease gl;  // declared first: released after the session's GL objects
   std::unique_ptr<Session> session;
   hlod::Camera camera;  // the last one drawn
   Clock::time_point lastFrameAt{};
@@ -52,10 +57,26 @@ struct SessionManager::Live {
 struct SessionManager::Warm {
   std::string key;
   std::shared_ptr<Scene> scene;
+  GlMemory::Lease gl;
   std::unique_ptr<Session> session;
+  Clock::time_point lastUsed;
 };
 
 namespace {
+
+// Destroyed GL objects go back to the allocator (llvmpipe's are in process memory): give the
+// freed pages back to the system, so that the process shrinks when sessions close.
+void trimMemory() {
+  malloc_trim(0);
+}
+
+std::uint64_t targetsOf(const RenderSettings& settings) {
+  renderer::RenderOptions ro;
+  ro.width = settings.width;
+  ro.height = settings.height;
+  ro.effects = settings.effects;
+  return renderer::Renderer::targetBytes(ro);
+}
 
 // Runs fn on the worker and waits for its answer. A render that outlives the timeout answers
 // 503; its task still runs, and its result is dropped.
@@ -80,12 +101,34 @@ ApiResult<T> runOn(RenderWorker& worker, std::chrono::seconds timeout, Fn fn) {
 }  // namespace
 
 SessionManager::SessionManager(std::vector<RenderWorker*> workers, SceneRegistry& scenes,
-                               Metrics& metrics, SessionLimits limits)
+                               Metrics& metrics, GlMemory& glMemory, SessionLimits limits)
     : workers_(std::move(workers)),
       scenes_(scenes),
       metrics_(metrics),
-      limits_(limits),
+      glMemory_(glMemory),
+      limits_(std::move(limits)),
       warm_(workers_.size()) {}
+
+ApiResult<GlMemory::Lease> SessionManager::leaseFor(const RenderSettings& settings, std::size_t w) {
+  const std::uint64_t need = targetsOf(settings);
+  auto lease = glMemory_.reserve(need);
+  auto& warm = warm_[w];
+  while (!lease && !warm.empty()) {
+    warm.pop_back();  // the least recently used warm context: dies here, on its thread
+    trimMemory();
+    lease = glMemory_.reserve(need);
+  }
+  if (lease) return std::move(*lease);
+  metrics_.add("hlodr_rejected_total", "reason=\"gl_memory\"");
+  const auto mb = [](std::uint64_t b) { return std::to_string((b + (1 << 20) - 1) >> 20); };
+  return ApiError{503, "gl_memory",
+                  "not enough GL memory: a " + std::to_string(settings.width) + "x" +
+                      std::to_string(settings.height) + " frame with these effects needs " +
+                      mb(need) + " MB of render targets, and " + mb(glMemory_.used()) + " of " +
+                      mb(glMemory_.cap()) +
+                      " MB (--gl-memory-mb) are in use; close a session or ask for a smaller "
+                      "frame"};
+}
 
 SessionManager::~SessionManager() = default;
 
@@ -116,13 +159,19 @@ ApiResult<nlohmann::json> SessionManager::create(const std::shared_ptr<Scene>& s
     live->scene = scene;
     live->settings = settings;
     live->worker = leastBusyWorker();
-    live->lastUsed = Clock::now().time_since_epoch().count();
+    live->lastUsed = limits_.now().time_since_epoch().count();
     live_[live->id] = live;  // reserves the place while the session is made
   }
   auto made = runOn<bool>(*workers_[live->worker], limits_.renderTimeout,
                           [this, live](renderer::GlContext& gl) -> ApiResult<bool> {
+                            auto lease = leaseFor(live->settings, live->worker);
+                            if (!lease) return lease.error();
+                            live->gl = std::move(*lease);
                             auto s = openSession(*live->scene, live->settings, gl, scenes_.cache());
-                            if (!s) return ApiError{500, "internal", s.message()};
+                            if (!s) {
+                              live->gl.release();
+                              return ApiError{500, "internal", s.message()};
+                            }
                             live->session = std::move(*s);
                             live->camera = live->scene->defaultCamera(
                                 double(live->settings.width) / live->settings.height,
@@ -178,7 +227,7 @@ ApiResult<FrameAnswer> SessionManager::frame(const std::string& id, const nlohma
     if (it != live_.end() && it->second->ready) live = it->second;
   }
   if (!live) return notFound("no session " + id + " (closed or expired)");
-  live->lastUsed = Clock::now().time_since_epoch().count();
+  live->lastUsed = limits_.now().time_since_epoch().count();
   const auto posted = Clock::now();
   auto answer = runOn<FrameAnswer>(
       *workers_[live->worker], limits_.renderTimeout,
@@ -200,6 +249,7 @@ ApiResult<FrameAnswer> SessionManager::frame(const std::string& id, const nlohma
         }
         auto a = draw(*live->session, *live->scene, sample,
                       still ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime, image, posted);
+        live->gl.resize(targetsOf(live->settings) + live->session->gpuBytes());
         if (a) {
           live->camera = sample.camera;
           live->lastFrameAt = now;
@@ -208,7 +258,7 @@ ApiResult<FrameAnswer> SessionManager::frame(const std::string& id, const nlohma
         }
         return a;
       });
-  live->lastUsed = Clock::now().time_since_epoch().count();
+  live->lastUsed = limits_.now().time_since_epoch().count();
   if (answer) metrics_.add("hlodr_frames_total", "kind=\"session\"");
   return answer;
 }
@@ -250,20 +300,36 @@ bool SessionManager::remove(const std::string& id) {
     live_.erase(it);
   }
   live->closed = true;
-  workers_[live->worker]->post([live](renderer::GlContext&) { live->session.reset(); });
+  runOn<bool>(*workers_[live->worker], limits_.renderTimeout,
+              [live](renderer::GlContext&) -> ApiResult<bool> {
+                live->session.reset();
+                live->gl.release();
+                trimMemory();
+                return true;
+              });
   return true;
 }
 
 std::size_t SessionManager::expireIdle() {
-  const auto now = Clock::now().time_since_epoch().count();
+  const Clock::time_point now = limits_.now();
   const auto limit = std::chrono::duration_cast<Clock::duration>(limits_.idleTimeout).count();
   std::vector<std::string> idle;
   {
     std::lock_guard lock(mutex_);
     for (const auto& [id, live] : live_)
-      if (live->ready && now - live->lastUsed.load() > limit) idle.push_back(id);
+      if (live->ready && now.time_since_epoch().count() - live->lastUsed.load() > limit)
+        idle.push_back(id);
   }
   for (const auto& id : idle) remove(id);
+  // Warm render contexts unused as long: their targets and GPU copies go too.
+  for (std::size_t w = 0; w < workers_.size(); ++w) {
+    workers_[w]->post([this, w, now](renderer::GlContext&) {
+      const std::size_t before = warm_[w].size();
+      std::erase_if(warm_[w],
+                    [&](const auto& e) { return now - e->lastUsed > limits_.idleTimeout; });
+      if (warm_[w].size() != before) trimMemory();
+    });
+  }
   return idle.size();
 }
 
@@ -286,19 +352,25 @@ ApiResult<FrameAnswer> SessionManager::renderOnce(const std::shared_ptr<Scene>& 
                              entry = *it;
                              warm.erase(it);
                            } else {
+                             auto lease = leaseFor(settings, w);
+                             if (!lease) return lease.error();
                              auto s = openSession(*scene, settings, gl, scenes_.cache());
                              if (!s) return ApiError{500, "internal", s.message()};
                              entry = std::make_shared<Warm>();
                              entry->key = key;
                              entry->scene = scene;
+                             entry->gl = std::move(*lease);
                              entry->session = std::move(*s);
                            }
+                           entry->lastUsed = limits_.now();
                            warm.insert(warm.begin(), entry);  // most recently used first
                            while (warm.size() > kWarmPerWorker)
                              warm.pop_back();  // dies here, on this thread
                            hlod::CameraSample sample;
                            sample.camera = camera;
-                           return draw(*entry->session, *scene, sample, mode, image, posted);
+                           auto a = draw(*entry->session, *scene, sample, mode, image, posted);
+                           entry->gl.resize(targetsOf(settings) + entry->session->gpuBytes());
+                           return a;
                          });
   if (answer) metrics_.add("hlodr_frames_total", "kind=\"render\"");
   return answer;
@@ -314,7 +386,10 @@ void SessionManager::shutdown() {
   for (auto& entry : all) {
     const std::shared_ptr<Live>& live = entry.second;
     live->closed = true;
-    workers_[live->worker]->post([live](renderer::GlContext&) { live->session.reset(); });
+    workers_[live->worker]->post([live](renderer::GlContext&) {
+      live->session.reset();
+      live->gl.release();
+    });
   }
   for (std::size_t w = 0; w < workers_.size(); ++w)
     workers_[w]->post([this, w](renderer::GlContext&) { warm_[w].clear(); });
