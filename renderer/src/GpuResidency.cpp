@@ -13,8 +13,8 @@ std::uint64_t uploadBytesOf(const hlod::LocalMesh& m) {
 }
 
 bool GpuResidency::pendingOrOnGpu(std::uint32_t node) const {
-  return onGpu_.isResident(node) ||
-         std::any_of(pending_.begin(), pending_.end(), [&](const auto& p) { return p.first == node; });
+  return onGpu_.isResident(node) || std::any_of(pending_.begin(), pending_.end(),
+                                                [&](const auto& p) { return p.first == node; });
 }
 
 void GpuResidency::queue(std::uint32_t node, std::shared_ptr<const hlod::LocalMesh> mesh) {
@@ -75,7 +75,7 @@ hlod::Result<hlod::UploadReport> GpuResidency::upload(double budgetMs, std::uint
           uploadBytesOf(*mesh) - (fresh || !mesh->texture ? 0 : mesh->texture->pixels.size());
       std::uint32_t victim = hlod::kNoNode;
       while (!manager_->fits(gpuBytes_, bytes) &&
-             (victim = manager_->nextVictim()) != hlod::kNoNode) {
+             (victim = manager_->nextVictim(node)) != hlod::kNoNode) {
         evict(victim);
         ++evictions_;
       }

@@ -43,12 +43,14 @@ bool GpuMemoryManager::fits(std::uint64_t usedBytes, std::uint64_t bytes) const 
   return budget_ == 0 || (bytes <= budget_ && usedBytes <= budget_ - bytes);
 }
 
-std::uint32_t GpuMemoryManager::nextVictim() const {
+std::uint32_t GpuMemoryManager::nextVictim(std::uint32_t forNode) const {
   if (budget_ == 0) return kNoNode;
+  assert(forNode < skeleton_.nodes.size());
+  const std::uint32_t group = skeleton_.nodes[forNode].parent;
   std::uint32_t best = kNoNode;
   for (std::uint32_t n : held_) {
     const NodeInfo& info = skeleton_.nodes[n];
-    if (info.parent == kNoNode || childrenOnGpu_[n] > 0) continue;
+    if (info.parent == kNoNode || childrenOnGpu_[n] > 0 || info.parent == group) continue;
     if (frame_ > 0 && lastDrawn_[n] == frame_) continue;
     if (best == kNoNode || lastDrawn_[n] < lastDrawn_[best] ||
         (lastDrawn_[n] == lastDrawn_[best] && info.level > skeleton_.nodes[best].level))

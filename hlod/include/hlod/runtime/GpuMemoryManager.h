@@ -9,7 +9,9 @@
 //    trade one node for another every frame instead of drawing coarser),
 //  - one of its children is on the GPU (the set on the GPU stays closed upwards, as the
 //    selectors need: they reach a node only through its parent), or
-//  - it is a root (hlod_0, or the top cell: what every frame falls back to).
+//  - it is a root (hlod_0, or the top cell: what every frame falls back to), or
+//  - it is a sibling of the node that needs the room: siblings are drawn as a group, and one
+//    evicted for another would be uploaded again next frame for the first, forever.
 // So a budget below the front's size degrades to coarser drawing: an upload that finds no
 // victim waits (the renderer defers it), and the selector draws the parent meanwhile.
 #include <cstdint>
@@ -32,9 +34,9 @@ class GpuMemoryManager {
   void drawn(std::span<const std::uint32_t> front);
   // Whether `bytes` more fit in the budget when `usedBytes` are held now.
   bool fits(std::uint64_t usedBytes, std::uint64_t bytes) const;
-  // The node to free next for room: the least recently drawn one that may go (see above);
-  // kNoNode when none may.
-  std::uint32_t nextVictim() const;
+  // The node to free next for room for `forNode`: the least recently drawn one that may go
+  // (see above); kNoNode when none may.
+  std::uint32_t nextVictim(std::uint32_t forNode) const;
 
  private:
   const Skeleton& skeleton_;
