@@ -1,9 +1,45 @@
 #include "renderer/GpuNodeRenderer.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace renderer {
+
+void GpuNodeRenderer::setGpuBudget(std::uint64_t bytes) {
+  residency_.setMemoryManager(nullptr);
+  memory_.reset();
+  if (bytes == 0) return;
+  memory_ = std::make_unique<hlod::GpuMemoryManager>(skeleton_, bytes);
+  for (std::uint32_t n = 0; n < skeleton_.nodes.size(); ++n)
+    if (residency_.onGpu().isResident(n)) memory_->uploaded(n);
+  residency_.setMemoryManager(memory_.get());
+}
+
+std::vector<hlod::OcclusionResult> GpuNodeRenderer::occlusionResults() {
+  std::vector<hlod::OcclusionResult> out;
+  if (answersTaken_) return out;
+  answersTaken_ = true;
+  const Renderer::OcclusionAnswers a = renderer_->occlusionAnswers();
+  assert(a.queriedMeshes.size() == a.meshSamples.size());
+  for (std::size_t k = 0; k < a.queriedMeshes.size(); ++k) {
+    assert(a.queriedMeshes[k] < meshNodes_.size());
+    hlod::OcclusionResult r;
+    r.nodes = {meshNodes_[a.queriedMeshes[k]]};
+    r.answered = a.meshSamples[k].has_value();
+    r.samples = a.meshSamples[k].value_or(0);
+    out.push_back(std::move(r));
+  }
+  for (std::size_t k = 0; k < batchNodes_.size(); ++k) {
+    hlod::OcclusionResult r;
+    r.nodes = batchNodes_[k];
+    r.answered = k < a.boxSamples.size() && a.boxSamples[k].has_value();
+    r.samples = r.answered ? *a.boxSamples[k] : 0;
+    out.push_back(std::move(r));
+  }
+  for (std::uint32_t n : unqueried_) out.push_back({{n}, 0, false});
+  return out;
+}
 
 void clipPlanesFor(const glm::dvec3& eye, const hlod::Aabb& bounds, double& zNear, double& zFar) {
   const double radius = std::max(glm::length(bounds.size()) * 0.5, 1e-6);
@@ -41,13 +77,28 @@ hlod::Result<hlod::UploadReport> GpuNodeRenderer::upload(double budgetMs,
 
 hlod::Result<hlod::DrawReport> GpuNodeRenderer::draw(const hlod::Camera& camera,
                                                      std::span<const std::uint32_t> front,
-                                                     std::span<const hlod::NodeDraw> draws) {
+                                                     std::span<const hlod::NodeDraw> draws,
+                                                     const hlod::OcclusionPlan* occlusion) {
+  assert(!occlusion || occlusion->queryDraw.size() == front.size());
   double zNear = camera.nearPlane, zFar = camera.farPlane;
   if (!bounds_.empty()) clipPlanesFor(camera.position, bounds_, zNear, zFar);
   FrameView view = makeFrameView(camera.position, camera.target, camera.up, camera.fovY,
                                  camera.aspect, zNear, zFar);
+  // A box that reaches the near plane (or holds the eye) cannot be tested: clipped, it could
+  // read hidden while it is not. Such a node is not queried and counts as visible.
+  const glm::dvec3 forward = camera.forward();
+  auto reachesNear = [&](const hlod::Aabb& b) {
+    const glm::dvec3 nearest(forward.x >= 0.0 ? b.min.x : b.max.x,
+                             forward.y >= 0.0 ? b.min.y : b.max.y,
+                             forward.z >= 0.0 ? b.min.z : b.max.z);
+    return glm::dot(nearest - camera.position, forward) <= zNear * 1.01;
+  };
+  batchNodes_.clear();
+  unqueried_.clear();
   std::vector<const GpuMesh*> meshes;
+  std::vector<std::uint8_t> queryMesh;
   meshes.reserve(front.size());
+  meshNodes_.clear();
   hlod::Aabb drawn;
   const auto& gl = renderer_->gl();
   for (std::size_t i = 0; i < front.size(); ++i)
@@ -56,6 +107,12 @@ hlod::Result<hlod::DrawReport> GpuNodeRenderer::draw(const hlod::Camera& camera,
       m->setDraw(
           gl, draws.empty() ? hlod::NodeDraw{skeleton_.nodes[front[i]].numTri, false} : draws[i]);
       meshes.push_back(m);
+      meshNodes_.push_back(front[i]);
+      if (occlusion) {
+        const bool untestable = occlusion->queryDraw[i] && reachesNear(skeleton_.nodes[front[i]].bounds);
+        if (untestable) unqueried_.push_back(front[i]);
+        queryMesh.push_back(occlusion->queryDraw[i] && !untestable);
+      }
       drawn.extend(skeleton_.nodes[front[i]].bounds);
     }
   // The shadow map is fitted to what this frame draws.
@@ -63,7 +120,35 @@ hlod::Result<hlod::DrawReport> GpuNodeRenderer::draw(const hlod::Camera& camera,
     view.sceneCentre = drawn.centre();
     view.sceneRadius = std::max(glm::length(drawn.size()) * 0.5, 1e-3);
   }
-  const FrameTiming t = renderer_->drawFrame(view, meshes);
+  // The boxes of hidden nodes, by batch. Hidden nodes on the GPU still cast shadows onto what
+  // is seen.
+  std::vector<std::vector<hlod::Aabb>> boxBatches;
+  std::vector<const GpuMesh*> hiddenCasters;
+  std::vector<hlod::Aabb> tint;
+  if (occlusion) {
+    for (const auto& batch : occlusion->boxBatches) {
+      std::vector<std::uint32_t> nodes;
+      std::vector<hlod::Aabb> boxes;
+      for (std::uint32_t n : batch) {
+        const hlod::Aabb& b = skeleton_.nodes[n].bounds;
+        if (reachesNear(b)) {
+          unqueried_.push_back(n);
+          continue;
+        }
+        nodes.push_back(n);
+        boxes.push_back(b);
+        if (const GpuMesh* m = residency_.find(n)) hiddenCasters.push_back(m);
+        if (showOcclusion_) tint.push_back(b);
+      }
+      if (nodes.empty()) continue;
+      batchNodes_.push_back(std::move(nodes));
+      boxBatches.push_back(std::move(boxes));
+    }
+  }
+  const OcclusionDraw od{queryMesh, boxBatches, hiddenCasters, tint};
+  const FrameTiming t = renderer_->drawFrame(view, meshes, occlusion ? &od : nullptr);
+  if (memory_) memory_->drawn(meshNodes_);
+  answersTaken_ = occlusion == nullptr;
   hlod::DrawReport report;
   report.ms = t.cpuMs;
   report.gpuMs = t.gpuMs;

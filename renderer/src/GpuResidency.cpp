@@ -12,7 +12,13 @@ std::uint64_t uploadBytesOf(const hlod::LocalMesh& m) {
   return b;
 }
 
+bool GpuResidency::pendingOrOnGpu(std::uint32_t node) const {
+  return onGpu_.isResident(node) || std::any_of(pending_.begin(), pending_.end(),
+                                                [&](const auto& p) { return p.first == node; });
+}
+
 void GpuResidency::queue(std::uint32_t node, std::shared_ptr<const hlod::LocalMesh> mesh) {
+  if (pendingOrOnGpu(node)) return;
   pending_.emplace_back(node, std::move(mesh));
 }
 
@@ -30,6 +36,7 @@ void GpuResidency::evict(std::uint32_t node) {
     gpu_.erase(it);
   }
   onGpu_.set(node, false);
+  if (manager_) manager_->freed(node);
   std::erase_if(pending_, [&](const auto& p) { return p.first == node; });
 }
 
@@ -61,6 +68,22 @@ hlod::Result<hlod::UploadReport> GpuResidency::upload(double budgetMs, std::uint
       if (auto it = textures_.find(mesh->texture); it != textures_.end())
         shared = it->second.lock();
     const bool fresh = !shared;
+    if (manager_) {
+      // Room first, least recently drawn out; none to be had: the upload waits (the selector
+      // draws the parent meanwhile, and queues it again while it wants it).
+      const std::uint64_t bytes =
+          uploadBytesOf(*mesh) - (fresh || !mesh->texture ? 0 : mesh->texture->pixels.size());
+      std::uint32_t victim = hlod::kNoNode;
+      while (!manager_->fits(gpuBytes_, bytes) &&
+             (victim = manager_->nextVictim(node)) != hlod::kNoNode) {
+        evict(victim);
+        ++evictions_;
+      }
+      if (!manager_->fits(gpuBytes_, bytes)) {
+        ++report.deferred;
+        continue;
+      }
+    }
     auto gpu = GpuMesh::upload(gl_, mesh, shared);
     if (!gpu) return hlod::makeError("node " + std::to_string(node) + ": " + gpu.message());
     if (fresh && gpu->gpuTexture()) {
@@ -71,6 +94,7 @@ hlod::Result<hlod::UploadReport> GpuResidency::upload(double budgetMs, std::uint
     if (auto old = gpu_.find(node); old != gpu_.end()) forget(old->second);
     gpu_.insert_or_assign(node, std::move(*gpu));
     onGpu_.set(node, true);
+    if (manager_) manager_->uploaded(node);
     ++report.uploads;
     report.bytes +=
         uploadBytesOf(*mesh) - (fresh || !mesh->texture ? 0 : mesh->texture->pixels.size());

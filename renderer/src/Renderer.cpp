@@ -239,6 +239,7 @@ ResourceCounts Renderer::resources() const {
     c.textures += static_cast<bool>(*o);
   for (const auto& [key, p] : programs_) c.programs += p.id() != 0;
   for (const GlObject& q : queries_) c.queries += static_cast<bool>(q);
+  if (occlusion_) c.queries += occlusion_->queryObjects() + 1;  // made only by culling
   c.vertexArrays += static_cast<bool>(fullscreenVao_);
   return c;
 }
@@ -278,12 +279,24 @@ const ShaderProgram* Renderer::program(const VariantKey& key) {
   return p.id() ? &p : nullptr;
 }
 
-FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* const> meshes) {
+FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* const> meshes,
+                                const OcclusionDraw* occlusion) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const GlFunctions& g = gl();
   FrameTiming timing;
   g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  queriedMeshes_.clear();
+  occlusionPass_ = false;
+  if (occlusion && !occlusion_) {
+    auto q = OcclusionQueries::create(g);
+    // The program is ours: a failure is a programmer error. The frame is drawn without queries.
+    assert(q && "occlusion box program");
+    if (q) occlusion_ = std::move(*q);
+    occlusionTimer_ = GlObject::create(g, GlKind::Query);
+  }
+  if (!occlusion_) occlusion = nullptr;
+  if (occlusion) occlusion_->beginFrame();
 
   if (has(Pass::Shadow)) {
     // The sun's orthographic view, fitted to the sphere that holds what is drawn (the front),
@@ -307,8 +320,21 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
   }
   for (std::size_t i = 0; i < passes_.size(); ++i) {
     g.BeginQuery(GL_TIME_ELAPSED, queries_[i].id());
-    runPass(passes_[i], view, meshes, timing);
+    runPass(passes_[i], view, meshes, timing, occlusion);
     g.EndQuery(GL_TIME_ELAPSED);
+    // The hidden nodes' boxes, against the depth of the whole front (Manocha sec. 4.2's HC),
+    // before any pass that changes the framebuffer further.
+    if (passes_[i] == Pass::Geometry && occlusion && !occlusion->boxBatches.empty()) {
+      g.BeginQuery(GL_TIME_ELAPSED, occlusionTimer_.id());
+      occlusion_->queryBoxes(view, occlusion->boxBatches);
+      g.EndQuery(GL_TIME_ELAPSED);
+      occlusionPass_ = true;
+    }
+  }
+  if (occlusion && !occlusion->tint.empty()) {
+    g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+    g.Viewport(0, 0, options_.width, options_.height);
+    occlusion_->drawTinted(view, occlusion->tint, glm::vec4(1.0f, 0.85f, 0.1f, 0.3f));
   }
   g.BindVertexArray(0);
   g.Disable(GL_CULL_FACE);
@@ -321,17 +347,33 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
     timing.passes.push_back({passName(passes_[i]), static_cast<double>(ns) * 1e-6});
     timing.gpuMs += timing.passes.back().gpuMs;
   }
+  if (occlusionPass_) {
+    GLuint64 ns = 0;
+    g.GetQueryObjectui64v(occlusionTimer_.id(), GL_QUERY_RESULT, &ns);
+    timing.passes.push_back({"occlusion", static_cast<double>(ns) * 1e-6});
+    timing.gpuMs += timing.passes.back().gpuMs;
+  }
   return timing;
 }
 
+Renderer::OcclusionAnswers Renderer::occlusionAnswers() const {
+  OcclusionAnswers a;
+  if (!occlusion_) return a;
+  a.queriedMeshes = queriedMeshes_;
+  a.meshSamples = occlusion_->drawSamples();
+  if (occlusionPass_) a.boxSamples = occlusion_->boxSamples();
+  return a;
+}
+
 void Renderer::runPass(Pass pass, const FrameView& view, std::span<const GpuMesh* const> meshes,
-                       FrameTiming& timing) {
+                       FrameTiming& timing, const OcclusionDraw* occlusion) {
   switch (pass) {
     case Pass::Shadow:
-      shadowPass(meshes);
+      shadowPass(meshes, occlusion ? occlusion->shadowCasters : std::span<const GpuMesh* const>{});
       break;
     case Pass::Geometry:
-      geometryPass(view, meshes, timing);
+      geometryPass(view, meshes, timing,
+                   occlusion ? occlusion->queryMesh : std::span<const std::uint8_t>{});
       break;
     case Pass::Sky:
       skyPass(view);
@@ -351,7 +393,8 @@ void Renderer::runPass(Pass pass, const FrameView& view, std::span<const GpuMesh
   }
 }
 
-void Renderer::shadowPass(std::span<const GpuMesh* const> meshes) {
+void Renderer::shadowPass(std::span<const GpuMesh* const> meshes,
+                          std::span<const GpuMesh* const> moreCasters) {
   const GlFunctions& g = gl();
   const int res = options_.effects.shadows->resolution;
   g.BindFramebuffer(GL_FRAMEBUFFER, shadowFramebuffer_.id());
@@ -365,16 +408,18 @@ void Renderer::shadowPass(std::span<const GpuMesh* const> meshes) {
   const ShaderProgram* p = program({ProgramKind::ShadowDepth, 0});
   assert(p && "compiled in init()");
   g.UseProgram(p->id());
-  for (const GpuMesh* mesh : meshes) {
-    if (!mesh) continue;
-    const glm::mat4 m(shadowViewProjection_ * translation(mesh->centre() - shadowCentre_));
-    g.UniformMatrix4fv(p->location(Uniform::ShadowModel), 1, GL_FALSE, &m[0][0]);
-    mesh->draw(g);
-  }
+  for (auto list : {meshes, moreCasters})
+    for (const GpuMesh* mesh : list) {
+      if (!mesh) continue;
+      const glm::mat4 m(shadowViewProjection_ * translation(mesh->centre() - shadowCentre_));
+      g.UniformMatrix4fv(p->location(Uniform::ShadowModel), 1, GL_FALSE, &m[0][0]);
+      mesh->draw(g);
+    }
 }
 
 void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* const> meshes,
-                            FrameTiming& timing) {
+                            FrameTiming& timing, std::span<const std::uint8_t> queryMesh) {
+  assert(queryMesh.empty() || queryMesh.size() == meshes.size());
   const GlFunctions& g = gl();
   const Effects& e = options_.effects;
   g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
@@ -405,7 +450,8 @@ void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* cons
   // Splats: gl_PointSize from the shader, a radius at w = 1 times this is the diameter in pixels.
   const float pointScale = projection[1][1] * float(options_.height);
   g.Enable(GL_PROGRAM_POINT_SIZE);
-  for (const GpuMesh* mesh : meshes) {
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    const GpuMesh* mesh = meshes[i];
     if (!mesh) continue;
     // Back faces of one-sided meshes are culled: half the triangles never reach the rasteriser.
     if (mesh->oneSided() != culling) {
@@ -447,7 +493,14 @@ void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* cons
       g.UniformMatrix4fv(p->location(Uniform::ShadowModel), 1, GL_FALSE, &m[0][0]);
     }
     if (mesh->textured() && e.textures) g.BindTexture(GL_TEXTURE_2D, mesh->texture());
+    // A visible node due for a re-test is queried with its own draw: it is drawn anyway.
+    const bool query = !queryMesh.empty() && queryMesh[i] && occlusion_;
+    if (query) {
+      queriedMeshes_.push_back(i);
+      occlusion_->beginDraw();
+    }
     mesh->draw(g);
+    if (query) occlusion_->endDraw();
     timing.triangles += mesh->triangles();
     ++timing.drawCalls;
   }

@@ -4,8 +4,10 @@
 // settled frames, the upload budget and the v_time feedback are tested with a simulated clock.
 // Drawing a node that is not on the GPU is an Error (the frame driver must never do it).
 #include <deque>
+#include <functional>
 #include <memory>
 #include <span>
+#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -48,9 +50,32 @@ class SimulatedRenderer final : public NodeRenderer {
   }
   std::size_t pendingUploads() const override { return pending_.size(); }
   const Residency& onGpu() const override { return onGpu_; }
+  // A visibility oracle for occlusion queries: whether a node would show any pixel. Unset:
+  // everything is visible. A query over a box or a draw reports 100 samples for a visible node.
+  std::function<bool(std::uint32_t)> hidden;
+  double msPerBoxQuery = 0.01;  // the box pass: per box drawn in a query
+  std::vector<std::uint32_t> lastQueriedBoxes;  // every box of the last draw's box pass
+
+  std::vector<OcclusionResult> occlusionResults() override { return std::exchange(answers_, {}); }
+
   Result<DrawReport> draw(const Camera&, std::span<const std::uint32_t> front,
-                          std::span<const NodeDraw> draws) override {
+                          std::span<const NodeDraw> draws,
+                          const OcclusionPlan* occlusion = nullptr) override {
     DrawReport d;
+    answers_.clear();
+    lastQueriedBoxes.clear();
+    double boxMs = 0.0;
+    if (occlusion) {
+      auto seen = [&](std::uint32_t n) { return !hidden || !hidden(n); };
+      for (std::size_t i = 0; i < front.size(); ++i)
+        if (occlusion->queryDraw.at(i)) answers_.push_back({{front[i]}, seen(front[i]) ? 100u : 0u});
+      for (const auto& batch : occlusion->boxBatches) {
+        const bool any = std::any_of(batch.begin(), batch.end(), seen);
+        answers_.push_back({batch, any ? 100u : 0u});
+        lastQueriedBoxes.insert(lastQueriedBoxes.end(), batch.begin(), batch.end());
+        boxMs += msPerBoxQuery * double(batch.size());
+      }
+    }
     double weighted = 0.0;
     for (std::size_t i = 0; i < front.size(); ++i) {
       const std::uint32_t n = front[i];
@@ -67,10 +92,11 @@ class SimulatedRenderer final : public NodeRenderer {
     }
     const double geometry = msPerFrame + msPerTriangle * weighted;
     const double shadow = shadowShare * msPerTriangle * weighted;
-    d.ms = shadow + geometry + msScreenPass;
+    d.ms = shadow + geometry + msScreenPass + boxMs;
     d.gpuMs = d.ms;
     if (shadowShare > 0.0) d.passes.push_back({"shadow", shadow});
     d.passes.push_back({"geometry", geometry});
+    if (boxMs > 0.0) d.passes.push_back({"occlusion", boxMs});
     if (msScreenPass > 0.0) d.passes.push_back({"ssao", msScreenPass});
     d.drawCalls = front.size();
     lastFront.assign(front.begin(), front.end());
@@ -94,6 +120,7 @@ class SimulatedRenderer final : public NodeRenderer {
   std::vector<std::uint64_t> triangles_;
   std::vector<std::uint32_t> levels_;
   std::vector<std::uint32_t> splatCounts_;
+  std::vector<OcclusionResult> answers_;
 };
 
 }  // namespace hlod::test

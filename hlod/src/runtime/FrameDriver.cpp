@@ -9,6 +9,7 @@
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <optional>
 
 namespace hlod {
 
@@ -75,8 +76,12 @@ FrameDriver::FrameDriver(std::unique_ptr<Selector> selector,
       prefetchSelector_(std::move(prefetchSelector)),
       loader_(loader),
       renderer_(renderer),
-      options_(options) {
+      options_(options),
+      predictor_(options.prediction),
+      occlusion_(selector_->skeleton(), options.occlusionParams),
+      occlusionAuto_(options.occlusion) {
   assert(selector_);
+  renderer_.setGpuBudget(options_.gpuBudgetBytes);
   assert(options_.width > 0 && options_.height > 0);
   const Skeleton& skel = selector_->skeleton();
   for (std::uint32_t r : skel.roots) bounds_.extend(skel.nodes[r].bounds);
@@ -92,6 +97,13 @@ void FrameDriver::drainLoader() {
   }
 }
 
+void FrameDriver::requeue(std::span<const std::uint32_t> nodes) {
+  for (std::uint32_t n : nodes) {
+    if (renderer_.pendingOrOnGpu(n) || !loader_.isResident(n)) continue;
+    if (auto mesh = loader_.residentPayload(n)) renderer_.queueUpload(n, std::move(mesh));
+  }
+}
+
 DrawSplit splitDraw(const DrawReport& report) {
   DrawSplit s;
   const double total = std::isfinite(report.ms) ? std::max(0.0, report.ms) : 0.0;
@@ -99,10 +111,12 @@ DrawSplit splitDraw(const DrawReport& report) {
     const double ms = std::isfinite(p.gpuMs) ? std::max(0.0, p.gpuMs) : 0.0;
     if (isScreenPass(p.name)) s.screenMs += ms;
     if (p.name == "shadow") s.shadowMs += ms;
+    if (p.name == "occlusion") s.occlusionMs += ms;
   }
   s.screenMs = std::min(s.screenMs, total);
   s.shadowMs = std::min(s.shadowMs, total - s.screenMs);
-  s.geometryMs = total - s.screenMs - s.shadowMs;
+  s.occlusionMs = std::min(s.occlusionMs, total - s.screenMs - s.shadowMs);
+  s.geometryMs = total - s.screenMs - s.shadowMs - s.occlusionMs;
   return s;
 }
 
@@ -202,6 +216,53 @@ Status FrameDriver::probeVTime(const Camera& camera) {
   return Ok{};
 }
 
+bool FrameDriver::beginOcclusion(const CameraSample& sample) {
+  // Last frame's answers: finished with its glFinish, so reading them does not wait.
+  std::vector<OcclusionResult> answers = renderer_.occlusionResults();
+  const bool active = occlusionAuto_.active();
+  // Last frame's visibility stands for this one only when the camera moved little: after more
+  // than half a second between the frames (a studied frame far along a path, a paused page) or
+  // a step of more than 2% of the model's size (a reset view), it is forgotten and the frame
+  // draws everything in the frustum.
+  bool jumped = !haveLastSample_;
+  if (haveLastSample_) {
+    const double dt = sample.time - lastSample_.time;
+    const double step = glm::length(sample.camera.position - lastSample_.camera.position);
+    jumped = !(dt >= 0.0 && dt <= 0.5) || !(step <= 0.02 * glm::length(bounds_.size()));
+  }
+  lastSample_ = sample;
+  haveLastSample_ = true;
+  if (!active) {
+    occlusionRan_ = false;
+    return false;
+  }
+  if (!occlusionRan_ || jumped) {
+    occlusion_.reset();
+  } else {
+    occlusion_.receive(answers);
+  }
+  return true;
+}
+
+void FrameDriver::endOcclusion(const Selection& sel, const DrawSplit& split, FrameRecord& rec) {
+  const bool ran = occlusionAuto_.active();
+  rec.occlusion = ran;
+  if (ran) {
+    rec.occlusionQueries = occlusion_.counters().queries;
+    double hiddenCost = 0.0;
+    for (std::uint32_t n : sel.occluded)
+      hiddenCost += std::max(selector_->skeleton().nodes[n].cost,
+                             selector_->params().lakhia.c_minCost);
+    occlusionMs_ = split.occlusionMs;
+    occlusionAuto_.update(true, selector_->vTime() * sel.frontDraws * hiddenCost,
+                          split.occlusionMs);
+  } else {
+    occlusionMs_ = 0.0;
+    occlusionAuto_.update(false, 0.0, 0.0);
+  }
+  occlusionRan_ = ran;
+}
+
 Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMode mode,
                                              const CameraSample* lookahead) {
   const auto frameStart = Clock::now();
@@ -223,7 +284,11 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   view.camera.aspect = static_cast<double>(options_.width) / options_.height;
   // This frame's uploads are done, and the per-pixel passes (sky, SSAO, outline) will cost what
   // they cost last frame whatever the front: the geometry gets the rest of the budget.
-  view.spentMs = rec.uploadMs + screenPassMs_;
+  const bool culling = beginOcclusion(sample);
+  view.occlusion = culling ? &occlusion_ : nullptr;
+  // The occlusion queries' box pass costs what it cost last frame: reserved as the per-pixel
+  // passes are.
+  view.spentMs = rec.uploadMs + screenPassMs_ + (culling ? occlusionMs_ : 0.0);
   view.frontDraws = frontDraws();
   const auto selectStart = Clock::now();
   // Settled: select as if everything were resident; that front is then loaded before drawing.
@@ -232,11 +297,21 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
       view, settled ? static_cast<const Residency&>(allResident) : renderer_.onGpu());
   rec.selectorMs = msSince(selectStart);
   loader_.setWanted(sel.loadPriorities);
+  // Wanted and in memory, but not on the GPU (its budget freed them): uploaded again.
+  requeue(settled ? std::span<const std::uint32_t>(sel.front) : sel.notResident);
 
   // Known-path prefetch: the selection for a camera further along the path, at lower priority.
+  // Without a path, a realtime frame predicts one from the camera's motion (Manocha sec. 5.3).
+  std::optional<CameraSample> predicted;
+  if (!lookahead && !settled && options_.predict) {
+    predictor_.observe(sample);
+    predicted = predictor_.predict();
+    if (predicted) lookahead = &*predicted;
+  }
   if (lookahead && prefetchSelector_) {
     View ahead{lookahead->camera, lookahead->velocity, options_.width, options_.height};
     ahead.camera.aspect = view.camera.aspect;
+    ahead.occlusion = view.occlusion;
     prefetchSelector_->setVTime(selector_->vTime());
     Selection future = prefetchSelector_->select(ahead, allResident);
     for (auto& r : future.loadPriorities) r.priority *= options_.prefetchWeight;
@@ -279,7 +354,9 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   lastFront_ = sel.front;
   lastDraws_ = sel.draws;
   orderNearToFar(selector_->skeleton(), view.camera.position, lastFront_, lastDraws_);
-  auto drawn = renderer_.draw(view.camera, lastFront_, lastDraws_);
+  OcclusionPlan plan;
+  if (culling) plan = occlusion_.plan(lastFront_, sel.occluded);
+  auto drawn = renderer_.draw(view.camera, lastFront_, lastDraws_, culling ? &plan : nullptr);
   if (!drawn) return drawn.error();
 
   // Frame time: this frame's uploads plus the GL work through glFinish (settled-mode uploads
@@ -295,6 +372,9 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   rec.index = frames_++;
   rec.time = sample.time;
   fillFromSelection(rec, sel);
+  endOcclusion(sel, split, rec);
+  rec.gpuBytes = renderer_.gpuBytes();
+  rec.gpuEvictions = renderer_.takeGpuEvictions();
   fillFromLoader(rec, loader_.counters());
   rec.triangles = drawn->triangles;  // what was drawn (equal to the front's numTri sum)
   rec.drawMs = drawn->ms;

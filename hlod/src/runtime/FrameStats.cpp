@@ -47,6 +47,8 @@ void fillFromSelection(FrameRecord& r, const Selection& s) {
   r.splatNodes = s.splatNodes;
   r.splats = s.splats;
   r.cellNodes = s.cellsDrawn;
+  r.occludedNodes = static_cast<std::uint32_t>(s.occluded.size());
+  r.occludedTriangles = s.occludedTriangles;
 }
 
 bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
@@ -57,7 +59,8 @@ bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
       {"ssao", &FrameRecord::ssaoMs},
       {"ssao-blur", &FrameRecord::ssaoBlurMs},
       {"composite", &FrameRecord::compositeMs},
-      {"outline", &FrameRecord::outlineMs}};
+      {"outline", &FrameRecord::outlineMs},
+      {"occlusion", &FrameRecord::occlusionMs}};
   for (const auto& [name, field] : kPasses)
     if (pass == name) {
       r.*field = ms;
@@ -87,11 +90,14 @@ FrameSummary summarize(std::span<const FrameRecord> frames) {
   s.frames = frames.size();
   std::vector<double> rel, ratio;
   std::size_t over = 0, over125 = 0;
-  double sumGpu = 0.0, sumTriangles = 0.0, sumCoarser = 0.0;
+  double sumGpu = 0.0, sumTriangles = 0.0, sumCoarser = 0.0, sumOccluded = 0.0;
   for (const FrameRecord& f : frames) {
     sumGpu += finiteOrZero(f.gpuMs);
     sumTriangles += static_cast<double>(f.triangles);
     sumCoarser += f.coarserNotResident;
+    sumOccluded += f.occludedNodes;
+    s.occlusionFrames += f.occlusion;
+    s.peakGpuBytes = std::max(s.peakGpuBytes, f.gpuBytes);
     s.totalStalls += f.stalls;
     s.totalUpToggles += f.upToggles;
     s.totalDownToggles += f.downToggles;
@@ -117,6 +123,7 @@ FrameSummary summarize(std::span<const FrameRecord> frames) {
     s.togglesPerFrame = static_cast<double>(s.totalUpToggles + s.totalDownToggles) / frames.size();
     s.meanTriangles = sumTriangles / frames.size();
     s.coarserPerFrame = sumCoarser / frames.size();
+    s.occludedPerFrame = sumOccluded / frames.size();
   }
   s.peakOverCap = s.capBytes > 0 ? double(s.peakResidentBytes) / double(s.capBytes) : 0.0;
   return s;
@@ -167,6 +174,15 @@ OrderedJson frameObject(const FrameRecord& f) {
           {"splatNodes", f.splatNodes},
           {"splats", f.splats},
           {"cellNodes", f.cellNodes},
+          {"occlusionMs", finiteOrZero(f.occlusionMs)},
+          {"occlusion", f.occlusion ? 1 : 0},
+          {"occlusionQueries", f.occlusionQueries},
+          {"occludedNodes", f.occludedNodes},
+          {"occludedTriangles", f.occludedTriangles},
+          {"listIn", f.listIn},
+          {"listOut", f.listOut},
+          {"gpuBytes", f.gpuBytes},
+          {"gpuEvictions", f.gpuEvictions},
           {"nodesPerLevel", f.nodesPerLevel}};
 }
 
@@ -186,7 +202,10 @@ OrderedJson summaryObject(const FrameSummary& s) {
           {"totalUpToggles", s.totalUpToggles},
           {"totalDownToggles", s.totalDownToggles},
           {"meanTriangles", s.meanTriangles},
-          {"coarserPerFrame", s.coarserPerFrame}};
+          {"coarserPerFrame", s.coarserPerFrame},
+          {"occludedPerFrame", s.occludedPerFrame},
+          {"occlusionFrames", s.occlusionFrames},
+          {"peakGpuBytes", s.peakGpuBytes}};
 }
 
 }  // namespace

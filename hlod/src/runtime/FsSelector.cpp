@@ -43,7 +43,7 @@ Selection FsSelector::select(const View& view, const Residency& residency) {
   auto visit = [&](std::uint32_t n) {
     const NodePriority np = model.evaluate(nodes[n]);
     benefitOf[n] = np.benefit;
-    visibleOf[n] = np.visible ? 1 : 0;
+    visibleOf[n] = np.visible && !occludedNow(n, s) ? 1 : 0;
     s.loadPriorities.push_back({n, np.priority});
   };
   auto hasChildren = [&](const NodeInfo& info) {
@@ -57,11 +57,20 @@ Selection FsSelector::select(const View& view, const Residency& residency) {
     if (!hasChildren(info)) return;
     double addedBenefit = -benefitOf[n];
     double addedCost = -effectiveCost(n);
+    const std::size_t hiddenBefore = s.occluded.size();
+    bool childInView = false;
     for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c) {
       visit(c);
       if (!visibleOf[c]) continue;
+      childInView = true;
       addedBenefit += benefitOf[c];
       addedCost += effectiveCost(c);
+    }
+    // Every child in view is hidden: so is the node's own surface, which approximates theirs.
+    if (!childInView && s.occluded.size() > hiddenBefore) {
+      isDrawn[n] = 0;
+      cost -= effectiveCost(n);
+      return;
     }
     double value;
     if (addedCost <= 0.0) {
@@ -99,6 +108,8 @@ Selection FsSelector::select(const View& view, const Residency& residency) {
     if (vTime * newCost > budget && newCost > cost) continue;  // does not fit; try cheaper ones
     if (!allResident) {
       ++s.coarserBecauseNotResident;
+      for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c)
+        if (visibleOf[c] && !residency.isResident(c)) s.notResident.push_back(c);
       continue;
     }
     cost = newCost;

@@ -22,7 +22,7 @@ Selection FullSelector::select(const View& view, const Residency& residency) {
 
   std::vector<std::uint32_t> queue;
   for (std::uint32_t r : candidateRoots(view, s)) {
-    if (r < nodes.size() && visit(r)) queue.push_back(r);
+    if (r < nodes.size() && visit(r) && !occludedNow(r, s)) queue.push_back(r);
   }
   walkFront(
       std::move(queue), residency, s, [](std::uint32_t) { return true; }, visit,

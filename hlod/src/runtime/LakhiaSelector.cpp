@@ -178,7 +178,7 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
   aimMs_ = s.drawBudgetMs * std::clamp(finiteOr(aim, 1.0), 0.1, 1.0);
   std::vector<std::uint32_t> visible;
   for (std::uint32_t r : candidateRoots(view, s)) {
-    if (r < nodes.size() && visit(r)) visible.push_back(r);
+    if (r < nodes.size() && visit(r) && !occludedNow(r, s)) visible.push_back(r);
   }
   sliceSiblings(visible, aimMs_);
 
@@ -293,12 +293,16 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
     double childCost = 0.0;
     bool resident = true;
     for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c) {
-      if (!visit(c) || fullyFogged(c)) continue;
+      if (!visit(c) || fullyFogged(c) || occludedNow(c, s)) continue;
       children.push_back(c);
       childCost += effectiveCost(c);
       resident = resident && residency.isResident(c);
     }
-    if (!resident) continue;
+    if (!resident) {
+      for (std::uint32_t c : children)
+        if (!residency.isResident(c)) s.notResident.push_back(c);
+      continue;
+    }
     const double step = std::max(0.0, childCost - effectiveCost(n));
     // Inside the band [addLimit, keepLimit] nothing changes.
     const bool kept = refinedLastFrame(n);

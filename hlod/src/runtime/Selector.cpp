@@ -7,6 +7,7 @@
 #include "hlod/runtime/FsSelector.h"
 #include "hlod/runtime/FullSelector.h"
 #include "hlod/runtime/LakhiaSelector.h"
+#include "hlod/runtime/OcclusionCulling.h"
 #include "hlod/runtime/SseSelector.h"
 
 namespace hlod {
@@ -60,7 +61,8 @@ Selector::Selector(const Skeleton& skeleton, const SelectorParams& params)
       drawnFrame_(skeleton.nodes.size(), kNever),
       drawnBefore_(skeleton.nodes.size(), kNever),
       refinedFrame_(skeleton.nodes.size(), kNever),
-      refinedBefore_(skeleton.nodes.size(), kNever) {
+      refinedBefore_(skeleton.nodes.size(), kNever),
+      occludedFrame_(skeleton.nodes.size(), kNever) {
   for (const NodeInfo& n : skeleton.nodes) maxLevel_ = std::max(maxLevel_, n.level);
 }
 
@@ -97,6 +99,7 @@ Selection Selector::beginFrame(const View& view) {
       std::isfinite(s.targetMs) ? std::max(0.0, s.targetMs - s.spentMs) / s.frontDraws : 0.0;
   s.vTime = feedback_.vTime();
   fogEye_ = view.camera.position;
+  occlusion_ = view.occlusion;
   fogCullDistance_ = view.fogCullDistance > 0.0 ? view.fogCullDistance : 0.0;
   s.nodesDrawnPerLevel.assign(skeleton_.nodes.empty() ? 0 : maxLevel_ + 1, 0);
   return s;
@@ -112,6 +115,36 @@ const std::vector<std::uint32_t>& Selector::candidateRoots(const View& view, Sel
 bool Selector::fullyFogged(std::uint32_t node) const {
   return std::isfinite(fogCullDistance_) &&
          distanceToBox(fogEye_, skeleton_.nodes[node].bounds) > fogCullDistance_;
+}
+
+bool Selector::occludedNow(std::uint32_t node, Selection& s) {
+  if (!occlusion_ || !occlusion_->occluded(node)) return false;
+  if (occludedFrame_[node] != frame_) {
+    occludedFrame_[node] = frame_;
+    s.occluded.push_back(node);
+    s.occludedTriangles += skeleton_.nodes[node].numTri;
+  }
+  return true;
+}
+
+void Selector::applyOcclusionToLoads(Selection& s) const {
+  if (s.occluded.empty()) return;
+  const double scale = std::clamp(params_.c_occludedLoad, 0.0, 1.0);
+  for (LoadRequest& r : s.loadPriorities)
+    if (occludedFrame_[r.node] == frame_) r.priority *= scale;
+  // Detail of a node hidden only lately stays wanted (at its lowered priority), so that it is
+  // still resident when the node comes back into view.
+  const double keep = std::max(0.0, params_.c_occludedKeepFrames);
+  const std::size_t listed = s.loadPriorities.size();
+  for (std::size_t i = 0; i < listed; ++i) {
+    const LoadRequest r = s.loadPriorities[i];
+    if (occludedFrame_[r.node] != frame_ || refinedFrame_[r.node] == kNever ||
+        double(frame_ - refinedFrame_[r.node]) > keep)
+      continue;
+    const NodeInfo& info = skeleton_.nodes[r.node];
+    for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c)
+      s.loadPriorities.push_back({c, r.priority});
+  }
 }
 
 void Selector::markRefined(std::uint32_t node, Selection& s) {

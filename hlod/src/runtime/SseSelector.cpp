@@ -35,7 +35,7 @@ Selection SseSelector::select(const View& view, const Residency& residency) {
 
   std::vector<std::uint32_t> queue;
   for (std::uint32_t r : candidateRoots(view, s)) {
-    if (r < nodes.size() && visit(r)) queue.push_back(r);
+    if (r < nodes.size() && visit(r) && !occludedNow(r, s)) queue.push_back(r);
   }
   // Refine while the projected geometric error exceeds ssePixels.
   walkFront(

@@ -25,7 +25,18 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
   const hlod::Residency& onGpu() const override { return residency_.onGpu(); }
   hlod::Result<hlod::DrawReport> draw(const hlod::Camera& camera,
                                       std::span<const std::uint32_t> front,
-                                      std::span<const hlod::NodeDraw> draws) override;
+                                      std::span<const hlod::NodeDraw> draws,
+                                      const hlod::OcclusionPlan* occlusion = nullptr) override;
+  std::vector<hlod::OcclusionResult> occlusionResults() override;
+  std::uint64_t gpuBytes() const override { return residency_.gpuBytes(); }
+  std::uint32_t takeGpuEvictions() override { return residency_.takeEvictions(); }
+  void setGpuBudget(std::uint64_t bytes) override;
+  bool pendingOrOnGpu(std::uint32_t node) const override {
+    return residency_.pendingOrOnGpu(node);
+  }
+  // Debug view (`--show-occlusion`): the boxes of the nodes the last plan queried as hidden are
+  // tinted over the frame, as Manocha's Fig. 5 shows the occluded clusters.
+  void setShowOcclusion(bool show) { showOcclusion_ = show; }
   hlod::Image readback() override { return renderer_->readback(); }
   bool drawsShadowPass() const override {
     const auto& p = renderer_->passes();
@@ -42,7 +53,15 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
   const hlod::Skeleton& skeleton_;  // node bounds: the shadow map's fit
   std::unique_ptr<Renderer> renderer_;
   GpuResidency residency_;
+  std::unique_ptr<hlod::GpuMemoryManager> memory_;  // the GPU budget, when one is set
   hlod::Aabb bounds_;  // of the whole model: the clip planes
+  bool showOcclusion_ = false;
+  // The nodes of the last draw's queries, to map their answers back: per mesh drawn, its node;
+  // per box batch issued, its nodes; nodes whose box was not queried (camera or near plane).
+  std::vector<std::uint32_t> meshNodes_;
+  std::vector<std::vector<std::uint32_t>> batchNodes_;
+  std::vector<std::uint32_t> unqueried_;
+  bool answersTaken_ = true;
 };
 
 // Near and far planes that hold the box seen from the camera (reversed-Z makes a wide range

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "hlod/runtime/FrameDriver.h"
+#include "hlod/runtime/GpuMemoryManager.h"
 #include "hlod/runtime/Selector.h"
 #include "renderer/GpuMesh.h"
 
@@ -20,12 +21,20 @@ class GpuResidency {
  public:
   GpuResidency(const GlFunctions& gl, std::size_t nodeCount) : gl_(gl), onGpu_(nodeCount) {}
 
+  // Queues a payload for upload; nothing when the node is on the GPU or queued already.
   void queue(std::uint32_t node, std::shared_ptr<const hlod::LocalMesh> mesh);
   void evict(std::uint32_t node);
   // Uploads queued payloads in order until budgetMs or budgetBytes (0: no byte limit) is spent,
   // at least one so that uploads always progress. A payload the GL refuses is an Error naming
-  // the node (it leaves the queue).
+  // the node (it leaves the queue). With a memory manager, room is made first by freeing the
+  // nodes it names; a payload it finds no room for leaves the queue (deferred: queued again
+  // when wanted).
   hlod::Result<hlod::UploadReport> upload(double budgetMs, std::uint64_t budgetBytes);
+  // The GPU memory budget (nullptr: none); it must outlive this.
+  void setMemoryManager(hlod::GpuMemoryManager* manager) { manager_ = manager; }
+  // Copies freed to make room since the last call.
+  std::uint32_t takeEvictions() { return std::exchange(evictions_, 0u); }
+  bool pendingOrOnGpu(std::uint32_t node) const;
 
   std::size_t pending() const { return pending_.size(); }
   const hlod::ResidencySet& onGpu() const { return onGpu_; }
@@ -46,6 +55,8 @@ class GpuResidency {
       textures_;
   std::uint64_t gpuBytes_ = 0;       // buffers, and each texture once
   void forget(const GpuMesh& mesh);  // takes its bytes off gpuBytes_
+  hlod::GpuMemoryManager* manager_ = nullptr;
+  std::uint32_t evictions_ = 0;
 };
 
 // Bytes an upload moves to the GL: vertex attributes, indices and the texture (unless it is on

@@ -4,6 +4,7 @@
 // GL_TIME_ELAPSED query. One Renderer per GL context (and so per thread / viewing session).
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <memory>
 #include <span>
 #include <string>
@@ -16,6 +17,7 @@
 #include "renderer/FrameView.h"
 #include "renderer/GlContext.h"
 #include "renderer/GpuMesh.h"
+#include "renderer/OcclusionQueries.h"
 #include "renderer/ShaderProgram.h"
 #include "renderer/ShaderVariant.h"
 
@@ -61,6 +63,14 @@ struct ResourceCounts {
   bool operator==(const ResourceCounts&) const = default;
 };
 
+// A frame's occlusion queries (OcclusionQueries.h), in drawFrame's terms.
+struct OcclusionDraw {
+  std::span<const std::uint8_t> queryMesh;               // per mesh: 1 to wrap its draw
+  std::span<const std::vector<hlod::Aabb>> boxBatches;   // one query each, after the geometry
+  std::span<const GpuMesh* const> shadowCasters;         // hidden, but still casting shadows
+  std::span<const hlod::Aabb> tint;                      // debug view: boxes tinted over the frame
+};
+
 class Renderer {
  public:
   static constexpr int kMaxSize = 8192;  // largest framebuffer side
@@ -70,7 +80,17 @@ class Renderer {
                                                         const RenderOptions& options);
 
   // Draws the meshes camera-relative and waits for the GL (glFinish) so the times are real.
-  FrameTiming drawFrame(const FrameView& view, std::span<const GpuMesh* const> meshes);
+  // occlusion: the frame's queries (nullptr: none); the box pass is timed as "occlusion".
+  FrameTiming drawFrame(const FrameView& view, std::span<const GpuMesh* const> meshes,
+                        const OcclusionDraw* occlusion = nullptr);
+  // The last drawFrame's query answers: per mesh index whose draw was wrapped, and per box
+  // batch, in order (nullopt: not available). Empty when it had no queries.
+  struct OcclusionAnswers {
+    std::vector<std::size_t> queriedMeshes;
+    std::vector<std::optional<std::uint64_t>> meshSamples;  // queriedMeshes' answers
+    std::vector<std::optional<std::uint64_t>> boxSamples;
+  };
+  OcclusionAnswers occlusionAnswers() const;
 
   // The last frame's pixels, RGBA8, row 0 at the top.
   hlod::Image readback();
@@ -102,10 +122,11 @@ class Renderer {
   bool has(Pass pass) const;
 
   void runPass(Pass pass, const FrameView& view, std::span<const GpuMesh* const> meshes,
-               FrameTiming& timing);
-  void shadowPass(std::span<const GpuMesh* const> meshes);
+               FrameTiming& timing, const OcclusionDraw* occlusion);
+  void shadowPass(std::span<const GpuMesh* const> meshes,
+                  std::span<const GpuMesh* const> moreCasters);
   void geometryPass(const FrameView& view, std::span<const GpuMesh* const> meshes,
-                    FrameTiming& timing);
+                    FrameTiming& timing, std::span<const std::uint8_t> queryMesh);
   void skyPass(const FrameView& view);
   void fullscreenPass(ProgramKind kind, GLuint target, GLuint input, const FrameView& view);
 
@@ -125,6 +146,11 @@ class Renderer {
   // This frame's sun matrix (world relative to the scene sphere's centre -> sun clip space).
   glm::dmat4 shadowViewProjection_{1.0};
   glm::dvec3 shadowCentre_{0.0};
+  // Made at the first frame with occlusion queries (a session without culling has none).
+  std::unique_ptr<OcclusionQueries> occlusion_;
+  GlObject occlusionTimer_;
+  std::vector<std::size_t> queriedMeshes_;  // this frame's draws wrapped in a query
+  bool occlusionPass_ = false;              // this frame's box pass ran
 };
 
 // Writes an image; the format follows the extension (.png, .jpg/.jpeg, .exr, .tif, ...).

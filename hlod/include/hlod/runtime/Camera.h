@@ -11,6 +11,8 @@
 
 namespace hlod {
 
+class OcclusionOracle;  // hlod/runtime/OcclusionCulling.h
+
 // A plane n.p + d = 0 with unit normal n pointing into the frustum.
 struct Plane {
   glm::dvec3 normal{0.0, 0.0, 1.0};
@@ -72,6 +74,9 @@ struct View {
   // geometry pass gets the draw budget divided by this, and v_time stays the geometry pass's ms
   // per unit of cost whether or not a scene casts shadows.
   double frontDraws = 1.0;
+  // Occlusion culling (OcclusionCulling.h): nodes found hidden by last frame's queries are left
+  // out of the front with their subtrees. nullptr: culling is off, the frustum alone decides.
+  const OcclusionOracle* occlusion = nullptr;
 };
 
 // About the pixels a box spans in the view: its diagonal seen face-on at its nearest point

@@ -14,6 +14,9 @@
 //   5. settled: wait until that front is loaded and upload it (a stall when it was not loaded);
 //   6. draw the front near to far; frame time = this frame's uploads + the drawing through
 //      glFinish; the drawing alone goes to the selector's v_time feedback.
+// With occlusion culling (OcclusionCulling.h), the answers to last frame's queries are taken
+// before the selection (step 3), which then leaves hidden nodes out, and step 6 draws the front
+// (the occluders) first and then queries the boxes of the hidden nodes.
 // Realtime never waits for the loader: a node whose children are not on the GPU is drawn at its
 // own level. Settled frames do not depend on I/O timing (for videos and reference frames).
 #include <chrono>
@@ -29,6 +32,9 @@
 #include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/FrameStats.h"
 #include "hlod/runtime/Loader.h"
+#include "hlod/runtime/MotionPredictor.h"
+#include "hlod/runtime/OcclusionAuto.h"
+#include "hlod/runtime/OcclusionCulling.h"
 #include "hlod/runtime/Selector.h"
 
 namespace hlod {
@@ -39,6 +45,7 @@ struct UploadReport {
   double ms = 0.0;  // time of the uploads' GL work
   std::uint32_t uploads = 0;
   std::uint64_t bytes = 0;
+  std::uint32_t deferred = 0;  // left out: no room under the GPU memory budget
 };
 
 struct PassTime {
@@ -69,9 +76,25 @@ class NodeRenderer {
   // The nodes that have a GPU copy: what a realtime frame may draw.
   virtual const Residency& onGpu() const = 0;
   // Draws the front, ordered near to far, as seen by the camera: per node what draws says (in
-  // the front's order; empty: every node whole).
+  // the front's order; empty: every node whole). occlusion: this frame's queries (nullptr:
+  // none): the draws it flags are wrapped in a query, and after the whole front its box batches
+  // are drawn inside queries with depth and colour writes off, timed as the pass "occlusion".
+  // A box that holds the camera or crosses the near plane is not queried.
   virtual Result<DrawReport> draw(const Camera& camera, std::span<const std::uint32_t> front,
-                                  std::span<const NodeDraw> draws) = 0;
+                                  std::span<const NodeDraw> draws,
+                                  const OcclusionPlan* occlusion = nullptr) = 0;
+  // The answers to the last draw's queries, taken once (a second call returns nothing). A query
+  // whose result is not available, or that was not issued, is left out.
+  virtual std::vector<OcclusionResult> occlusionResults() { return {}; }
+  // Bytes of the GPU copies held now (buffers, and each texture once).
+  virtual std::uint64_t gpuBytes() const { return 0; }
+  // GPU copies freed by the GPU memory budget since the last call.
+  virtual std::uint32_t takeGpuEvictions() { return 0; }
+  // The GPU memory budget in bytes (0: none), kept by least-recently-drawn replacement
+  // (GpuMemoryManager); an upload that finds no room is deferred.
+  virtual void setGpuBudget(std::uint64_t /*bytes*/) {}
+  // Whether the node is on the GPU or queued for an upload.
+  virtual bool pendingOrOnGpu(std::uint32_t node) const { return onGpu().isResident(node); }
   // The last frame's pixels, RGBA8, row 0 at the top.
   virtual Image readback() = 0;
   // Whether draw() runs a "shadow" pass: the front drawn again, depth only, from the sun.
@@ -87,6 +110,7 @@ struct DrawSplit {
   double geometryMs = 0.0;
   double shadowMs = 0.0;
   double screenMs = 0.0;
+  double occlusionMs = 0.0;  // the occlusion queries' box pass: reserved, left out of v_time
 };
 DrawSplit splitDraw(const DrawReport& report);
 
@@ -102,6 +126,14 @@ struct FrameDriverOptions {
   double fogCullDistance = std::numeric_limits<double>::infinity();
   // start() starts the loader's thread; tests leave it off and step the loader themselves.
   bool loaderThread = true;
+  // Occlusion culling: on, off, or auto (on while it pays: OcclusionAuto).
+  OcclusionMode occlusion = OcclusionMode::Auto;
+  OcclusionParams occlusionParams;
+  std::uint64_t gpuBudgetBytes = 0;  // GPU memory budget (NodeRenderer::setGpuBudget); 0: none
+  // Realtime frames without a look-ahead camera (an interactive session) prefetch for the
+  // camera their recent motion predicts (MotionPredictor).
+  bool predict = true;
+  MotionPredictorParams prediction;
 };
 
 class FrameDriver {
@@ -139,15 +171,24 @@ class FrameDriver {
   // The v_time start() measured (0 before start, or when it was given): the probe's where
   // there was one, else hlod_0's.
   double measuredVTime() const { return measuredVTime_; }
+  // The occlusion culling state (its counters are the last frame's).
+  const OcclusionCulling& occlusion() const { return occlusion_; }
 
  private:
   void drainLoader();
+  // Queues for upload the nodes the loader holds but the GPU does not (freed there by the GPU
+  // memory budget): the frame wants them again.
+  void requeue(std::span<const std::uint32_t> nodes);
   Status probeVTime(const Camera& camera);
   // Draws `front` once to pay its first use, then three times: the draw of median geometry time.
   Result<DrawSplit> timeDraws(const Camera& camera, std::span<const std::uint32_t> front,
                               std::span<const NodeDraw> draws);
   // View::frontDraws of the next frame: 1, plus the shadow pass's share where there is one.
   double frontDraws() const;
+  // Whether this frame culls by occlusion, after taking last frame's answers; resets the
+  // culling state after a camera jump or when auto turns it back on.
+  bool beginOcclusion(const CameraSample& sample);
+  void endOcclusion(const Selection& selection, const DrawSplit& split, FrameRecord& record);
 
   std::unique_ptr<Selector> selector_;
   std::unique_ptr<Selector> prefetchSelector_;
@@ -164,6 +205,13 @@ class FrameDriver {
   std::deque<FrameRecord> recent_;
   std::vector<std::uint32_t> lastFront_;
   std::vector<NodeDraw> lastDraws_;  // lastFront_'s
+  MotionPredictor predictor_;
+  OcclusionCulling occlusion_;
+  OcclusionAuto occlusionAuto_;
+  bool occlusionRan_ = false;          // the last frame culled (its answers are due now)
+  double occlusionMs_ = 0.0;           // the last culling frame's box pass, reserved like a pass
+  bool haveLastSample_ = false;        // lastSample_ holds the previous frame's camera
+  CameraSample lastSample_;
 };
 
 // The front of a selection ordered near to far from the camera (by distance to each node's box):

@@ -18,13 +18,22 @@
 //     an upload), loadErrors and bytesRead (cumulative, of the loader), cacheHits (cumulative:
 //     nodes another session had decoded already), partialNodes (front nodes drawn with fewer
 //     triangles than their own, from their progression), splatNodes and splats (front nodes drawn
-//     as splats, and their splats), cellNodes (front nodes that are cell nodes, Skeleton.h).
+//     as splats, and their splats), cellNodes (front nodes that are cell nodes, Skeleton.h),
+//     occlusionMs (the occlusion queries' box pass, GL_TIME_ELAPSED, ms), occlusion (1 when
+//     occlusion culling ran this frame), occlusionQueries (queries issued: on draws and on box
+//     batches), occludedNodes and occludedTriangles (nodes in the frustum left out with their
+//     subtrees because a query found them hidden, and their own triangles), listIn and listOut
+//     (settled frames: front nodes resident when the frame began, L_I, and those it waited for,
+//     L_O; Manocha 5.5), gpuBytes (bytes of the session's GPU copies after the frame),
+//     gpuEvictions (GPU copies freed this frame by the GPU memory budget).
 //   summary: frames, medianRelError and p95RelError (of |gpuMs - targetMs| / targetMs),
 //     shareOverTarget and shareOver125 (fraction of frames with gpuMs > target, > 1.25 target),
 //     p99OverTarget (p99 of gpuMs / targetMs), meanGpuMs, totalStalls, peakResidentBytes,
 //     capBytes, peakOverCap (peak / cap, 0 when no cap), togglesPerFrame ((up+down)/frames),
 //     totalUpToggles, totalDownToggles, meanTriangles (triangles drawn per frame),
-//     coarserPerFrame (mean coarserNotResident: detail missing because it was not loaded).
+//     coarserPerFrame (mean coarserNotResident: detail missing because it was not loaded),
+//     occludedPerFrame (mean occludedNodes), occlusionFrames (frames with culling on),
+//     peakGpuBytes.
 // stats.csv: one row per frame with the same names; nodesPerLevel as columns level0, level1...
 #include <cstdint>
 #include <span>
@@ -78,12 +87,21 @@ struct FrameRecord {
   std::uint32_t splatNodes = 0;    // front nodes drawn as splats
   std::uint64_t splats = 0;
   std::uint32_t cellNodes = 0;  // front nodes that are cell nodes
+  double occlusionMs = 0.0;
+  bool occlusion = false;
+  std::uint32_t occlusionQueries = 0;
+  std::uint32_t occludedNodes = 0;
+  std::uint64_t occludedTriangles = 0;
+  std::uint32_t listIn = 0;
+  std::uint32_t listOut = 0;
+  std::uint64_t gpuBytes = 0;
+  std::uint32_t gpuEvictions = 0;
 };
 
 // Copies the selector's part (targetMs, estimatedMs, triangles, levels, toggles, vTime, ...).
 void fillFromSelection(FrameRecord& record, const Selection& selection);
 // Sets the per-pass field of the pass named `pass` ("shadow", "geometry", "sky", "ssao",
-// "ssao-blur", "composite", "outline"); false for another name.
+// "ssao-blur", "composite", "outline", "occlusion"); false for another name.
 bool setPassMs(FrameRecord& record, const std::string& pass, double ms);
 // A pass whose cost is per pixel, not per triangle of the front (sky, ssao, ssao-blur,
 // composite, outline); shadow and geometry draw the front.
@@ -108,6 +126,9 @@ struct FrameSummary {
   std::uint64_t totalDownToggles = 0;
   double meanTriangles = 0.0;
   double coarserPerFrame = 0.0;
+  double occludedPerFrame = 0.0;
+  std::uint64_t occlusionFrames = 0;
+  std::uint64_t peakGpuBytes = 0;
 };
 
 // Frames with targetMs <= 0 are left out of the error figures.

@@ -85,6 +85,11 @@ struct Selection {
   std::uint32_t downToggles = 0;  // nodes whose children were drawn last frame, drawn now
   std::uint32_t fogCulled = 0;    // visible nodes left out: wholly beyond View::fogCullDistance
   std::uint32_t coarserBecauseNotResident = 0;    // drawn coarser: a visible child not resident
+  std::vector<std::uint32_t> notResident;  // those children: what the frame waited to refine into
+  // Occlusion culling (View::occlusion): the nodes in the frustum that the walk left out, each
+  // with its subtree, because a query found its box hidden. Their boxes are queried again.
+  std::vector<std::uint32_t> occluded;
+  std::uint64_t occludedTriangles = 0;  // the occluded nodes' own triangles (at their level)
   std::vector<std::uint32_t> nodesDrawnPerLevel;  // index = level d of hlod_d (blocks' nodes)
   std::uint32_t cellsDrawn = 0;                   // cell nodes drawn (Skeleton.h)
   std::uint64_t triangles = 0;                    // triangles drawn (draws)
@@ -178,6 +183,12 @@ struct SelectorParams {
   bool splats = false;
   double splatPixels = 4.0;
   double c_splat = 0.5;
+  // Occlusion culling: an occluded node's load priority is scaled by c_occludedLoad (it is
+  // not drawn, so a visible node's load comes first), and the children of one refined within
+  // the last c_occludedKeepFrames frames stay wanted at that priority, so that they are still
+  // resident when it comes back into view.
+  double c_occludedLoad = 0.1;
+  double c_occludedKeepFrames = 60.0;
   // Lakhia: a front node with a progression (a parry store) whose time slice buys less than its
   // timeNeeded is drawn with the triangles the slice buys, down to its coarsest (Parry's arrays
   // drawn at any count), instead of whole. `--params progressive=0` draws whole nodes only.
@@ -282,6 +293,9 @@ class Selector {
   const std::vector<std::uint32_t>& candidateRoots(const View& view, Selection& s);
   // The node's box lies wholly beyond View::fogCullDistance of this frame.
   bool fullyFogged(std::uint32_t node) const;
+  // A node in the frustum that the last frame's occlusion queries found hidden (View::occlusion):
+  // recorded once a frame in s.occluded, and left out of the front with its subtree.
+  bool occludedNow(std::uint32_t node, Selection& s);
   bool refinedThisFrame(std::uint32_t node) const { return refinedFrame_[node] == frame_; }
   double effectiveCost(std::uint32_t node) const;  // max(cost, c_minCost)
   bool refinedLastFrame(std::uint32_t node) const { return refinedFrame_[node] == frame_ - 1; }
@@ -313,13 +327,18 @@ class Selector {
         continue;
       }
       children.clear();
+      bool hiddenChild = false;
       for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c)
         if (visit(c)) {
-          if (!fullyFogged(c))
-            children.push_back(c);
-          else
+          if (fullyFogged(c))
             ++s.fogCulled;
+          else if (occludedNow(c, s))
+            hiddenChild = true;
+          else
+            children.push_back(c);
         }
+      // Every child in view is hidden: so is the node's own surface, which approximates theirs.
+      if (children.empty() && hiddenChild) continue;
       if (!refine(n, children)) {
         markDrawn(n, s);
         continue;
@@ -328,6 +347,8 @@ class Selector {
       if (!std::all_of(children.begin(), children.end(),
                        [&](std::uint32_t c) { return residency.isResident(c); })) {
         ++s.coarserBecauseNotResident;
+        for (std::uint32_t c : children)
+          if (!residency.isResident(c)) s.notResident.push_back(c);
         markDrawn(n, s);
         continue;
       }
@@ -356,6 +377,9 @@ class Selector {
   std::vector<std::uint32_t> drawnBefore_;    // drawnFrame_ before markDrawn set it this frame
   std::vector<std::uint32_t> refinedFrame_;   // last frame each node was replaced by children
   std::vector<std::uint32_t> refinedBefore_;  // refinedFrame_ before markRefined set it
+  const OcclusionOracle* occlusion_ = nullptr;  // this frame's View::occlusion
+  std::vector<std::uint32_t> occludedFrame_;    // last frame each node was found occluded
+  void applyOcclusionToLoads(Selection& s) const;
 };
 
 template <class TrianglesFor>
@@ -383,6 +407,7 @@ void Selector::planDraws(const View& view, Selection& s, TrianglesFor&& triangle
     }
     s.estimatedCost += drawCost(n, d);
   }
+  applyOcclusionToLoads(s);
   finishFrame(s);
 }
 
