@@ -288,15 +288,8 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
   g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   queriedMeshes_.clear();
   occlusionPass_ = false;
-  if (occlusion && !occlusion_) {
-    auto q = OcclusionQueries::create(g);
-    // The program is ours: a failure is a programmer error. The frame is drawn without queries.
-    assert(q && "occlusion box program");
-    if (q) occlusion_ = std::move(*q);
-    occlusionTimer_ = GlObject::create(g, GlKind::Query);
-  }
+  prepareOcclusion(occlusion);
   if (!occlusion_) occlusion = nullptr;
-  if (occlusion) occlusion_->beginFrame();
 
   if (has(Pass::Shadow)) {
     // The sun's orthographic view, fitted to the sphere that holds what is drawn (the front),
@@ -354,6 +347,101 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
     timing.gpuMs += timing.passes.back().gpuMs;
   }
   return timing;
+}
+
+void Renderer::beginParts(const FrameView& view, const OcclusionDraw* occlusion) {
+  assert(canDrawInParts());
+  const GlFunctions& g = gl();
+  g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  queriedMeshes_.clear();
+  occlusionPass_ = false;
+  prepareOcclusion(occlusion);
+  parts_ = FrameTiming{};
+  partsMeshes_ = 0;
+  partsOcclusion_ = occlusion_ && occlusion ? *occlusion : OcclusionDraw{};
+  partsHaveOcclusion_ = occlusion_ && occlusion;
+  (void)view;
+  const auto start = std::chrono::steady_clock::now();
+  clearGeometry();
+  g.Finish();
+  parts_.cpuMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                      .count();
+}
+
+double Renderer::drawPart(const FrameView& view, std::span<const GpuMesh* const> meshes,
+                          std::span<const std::uint8_t> queryMesh) {
+  const auto start = std::chrono::steady_clock::now();
+  drawMeshes(view, meshes, parts_, queryMesh, partsMeshes_);
+  partsMeshes_ += meshes.size();
+  gl().Finish();
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  parts_.cpuMs += ms;
+  geometryPartsMs_ += ms;
+  return ms;
+}
+
+FrameTiming Renderer::endParts(const FrameView& view) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const GlFunctions& g = gl();
+  FrameTiming timing = parts_;
+  // The geometry's parts were timed through their glFinish (a timer query around them would
+  // count the waits for the loader between them).
+  timing.passes.push_back({passName(Pass::Geometry), geometryPartsMs_});
+  timing.gpuMs += geometryPartsMs_;
+  geometryPartsMs_ = 0.0;
+  const OcclusionDraw* occlusion = partsHaveOcclusion_ ? &partsOcclusion_ : nullptr;
+  if (occlusion && !occlusion->boxBatches.empty()) {
+    g.BeginQuery(GL_TIME_ELAPSED, occlusionTimer_.id());
+    occlusion_->queryBoxes(view, occlusion->boxBatches);
+    g.EndQuery(GL_TIME_ELAPSED);
+    occlusionPass_ = true;
+  }
+  std::vector<std::size_t> after;
+  for (std::size_t i = 0; i < passes_.size(); ++i) {
+    if (passes_[i] == Pass::Geometry || passes_[i] == Pass::Shadow) continue;
+    g.BeginQuery(GL_TIME_ELAPSED, queries_[i].id());
+    runPass(passes_[i], view, {}, timing, nullptr);
+    g.EndQuery(GL_TIME_ELAPSED);
+    after.push_back(i);
+  }
+  if (occlusion && !occlusion->tint.empty()) {
+    g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+    g.Viewport(0, 0, options_.width, options_.height);
+    occlusion_->drawTinted(view, occlusion->tint, glm::vec4(1.0f, 0.85f, 0.1f, 0.3f));
+  }
+  g.BindVertexArray(0);
+  g.Disable(GL_CULL_FACE);
+  g.Disable(GL_BLEND);
+  g.Finish();
+  timing.cpuMs += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  for (std::size_t i : after) {
+    GLuint64 ns = 0;
+    g.GetQueryObjectui64v(queries_[i].id(), GL_QUERY_RESULT, &ns);
+    timing.passes.push_back({passName(passes_[i]), static_cast<double>(ns) * 1e-6});
+    timing.gpuMs += timing.passes.back().gpuMs;
+  }
+  if (occlusionPass_) {
+    GLuint64 ns = 0;
+    g.GetQueryObjectui64v(occlusionTimer_.id(), GL_QUERY_RESULT, &ns);
+    timing.passes.push_back({"occlusion", static_cast<double>(ns) * 1e-6});
+    timing.gpuMs += timing.passes.back().gpuMs;
+  }
+  partsOcclusion_ = {};
+  partsHaveOcclusion_ = false;
+  return timing;
+}
+
+void Renderer::prepareOcclusion(const OcclusionDraw* occlusion) {
+  if (occlusion && !occlusion_) {
+    auto q = OcclusionQueries::create(gl());
+    // The program is ours: a failure is a programmer error. The frame is drawn without queries.
+    assert(q && "occlusion box program");
+    if (q) occlusion_ = std::move(*q);
+    occlusionTimer_ = GlObject::create(gl(), GlKind::Query);
+  }
+  if (occlusion && occlusion_) occlusion_->beginFrame();
 }
 
 Renderer::OcclusionAnswers Renderer::occlusionAnswers() const {
@@ -419,19 +507,34 @@ void Renderer::shadowPass(std::span<const GpuMesh* const> meshes,
 
 void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* const> meshes,
                             FrameTiming& timing, std::span<const std::uint8_t> queryMesh) {
+  clearGeometry();
+  drawMeshes(view, meshes, timing, queryMesh, 0);
+}
+
+void Renderer::clearGeometry() {
+  const GlFunctions& g = gl();
+  g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  g.Viewport(0, 0, options_.width, options_.height);
+  const glm::vec3 bg = options_.effects.background.colour;
+  g.ClearColor(bg.r, bg.g, bg.b, 1.0f);
+  g.ClearDepth(0.0);
+  g.DepthMask(GL_TRUE);
+  g.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}
+
+void Renderer::drawMeshes(const FrameView& view, std::span<const GpuMesh* const> meshes,
+                          FrameTiming& timing, std::span<const std::uint8_t> queryMesh,
+                          std::size_t firstIndex) {
   assert(queryMesh.empty() || queryMesh.size() == meshes.size());
   const GlFunctions& g = gl();
   const Effects& e = options_.effects;
+  const glm::vec3 bg = e.background.colour;
   g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   g.Viewport(0, 0, options_.width, options_.height);
   g.Enable(GL_DEPTH_TEST);
   g.DepthFunc(GL_GREATER);
   g.DepthMask(GL_TRUE);
   g.Disable(GL_CULL_FACE);
-  const glm::vec3 bg = e.background.colour;
-  g.ClearColor(bg.r, bg.g, bg.b, 1.0f);
-  g.ClearDepth(0.0);
-  g.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
   const glm::mat4 projection(view.projection);
   const glm::vec3 up(glm::normalize(options_.up));
@@ -496,7 +599,7 @@ void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* cons
     // A visible node due for a re-test is queried with its own draw: it is drawn anyway.
     const bool query = !queryMesh.empty() && queryMesh[i] && occlusion_;
     if (query) {
-      queriedMeshes_.push_back(i);
+      queriedMeshes_.push_back(firstIndex + i);
       occlusion_->beginDraw();
     }
     mesh->draw(g);

@@ -121,6 +121,11 @@ hlod::Status Session::init(renderer::GlContext& context) {
   fo.width = options_.width;
   fo.height = options_.height;
   fo.recentFrames = options_.recentFrames;
+  fo.occlusion = options_.occlusion;
+  fo.gpuBudgetBytes = options_.gpuBudgetBytes;
+  fo.renderWhileLoading = options_.renderWhileLoading;
+  fo.predict = options_.predict;
+  renderer_->setShowOcclusion(options_.showOcclusion);
   // A declared density culls what it hides; a derived one (1 / far) never reaches the model.
   if (options_.effects.fog && options_.effects.fog->density > 0.0)
     fo.fogCullDistance = hlod::fogCullDistance(options_.effects.fog->density);

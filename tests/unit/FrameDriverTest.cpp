@@ -398,3 +398,29 @@ TEST(FrameDriver, RecentRecordsAreABoundedRing) {
   EXPECT_EQ(rig.driver->recent().front().index, 100u);
   EXPECT_EQ(rig.driver->recent().back().index, 699u);
 }
+
+TEST(FrameDriver, ASettledFrameDrawsItsResidentPartWhileTheRestLoads) {
+  // Manocha 5.5: L_I (in memory when the frame starts) is drawn first, then each node of L_O as
+  // the loader brings it; the frame is the same front the waiting path draws.
+  Rig waiting, parts;
+  parts.renderer.drawsInParts = true;
+  ASSERT_TRUE(waiting.driver->start().ok());
+  ASSERT_TRUE(parts.driver->start().ok());
+  auto a = waiting.driver->renderFrame(waiting.street(), FrameMode::Settled);
+  auto b = parts.driver->renderFrame(parts.street(), FrameMode::Settled);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(waiting.driver->lastFront().size(), parts.driver->lastFront().size());
+  std::vector<std::uint32_t> fa = waiting.driver->lastFront(), fb = parts.driver->lastFront();
+  std::sort(fa.begin(), fa.end());
+  std::sort(fb.begin(), fb.end());
+  EXPECT_EQ(fa, fb);
+  ASSERT_GE(parts.renderer.parts.size(), 2u);  // L_I, then what arrived
+  EXPECT_GT(b->listOut, 0u);
+  EXPECT_EQ(b->listIn + b->listOut, fb.size());
+  EXPECT_EQ(parts.renderer.parts.front().size(), b->listIn);
+  std::size_t drawn = 0;
+  for (const auto& p : parts.renderer.parts) drawn += p.size();
+  EXPECT_EQ(drawn, fb.size());  // every node once
+  EXPECT_EQ(b->stalls, 1u);
+  EXPECT_GE(b->wallMs, b->cpuMs);
+}

@@ -6,6 +6,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <algorithm>
 #include <utility>
@@ -102,6 +103,33 @@ class SimulatedRenderer final : public NodeRenderer {
     lastFront.assign(front.begin(), front.end());
     return d;
   }
+  // Render while loading: parts are recorded (each a list of nodes, which must be on the GPU
+  // when drawn); the finished frame costs what draw() says of the whole front.
+  bool drawsInParts = false;
+  std::vector<std::vector<std::uint32_t>> parts;
+  bool canDrawInParts() const override { return drawsInParts; }
+  Status beginParts(const Camera& camera, std::span<const std::uint32_t> front,
+                    std::span<const NodeDraw> draws, const OcclusionPlan* occlusion) override {
+    partsCamera_ = camera;
+    partsFront_.assign(front.begin(), front.end());
+    partsDraws_.assign(draws.begin(), draws.end());
+    partsPlan_ = occlusion ? std::optional<OcclusionPlan>(*occlusion) : std::nullopt;
+    parts.clear();
+    return Ok{};
+  }
+  Status drawPart(std::span<const std::size_t> positions) override {
+    std::vector<std::uint32_t> nodes;
+    for (std::size_t i : positions) {
+      if (!onGpu_.isResident(partsFront_.at(i))) return makeError("drew a part not on the GPU");
+      nodes.push_back(partsFront_[i]);
+    }
+    parts.push_back(std::move(nodes));
+    return Ok{};
+  }
+  Result<DrawReport> endParts() override {
+    return draw(partsCamera_, partsFront_, partsDraws_, partsPlan_ ? &*partsPlan_ : nullptr);
+  }
+
   Image readback() override { return Image{1, 1, {0, 0, 0, 255}}; }
   bool drawsShadowPass() const override { return shadowShare > 0.0; }
 
@@ -121,6 +149,10 @@ class SimulatedRenderer final : public NodeRenderer {
   std::vector<std::uint32_t> levels_;
   std::vector<std::uint32_t> splatCounts_;
   std::vector<OcclusionResult> answers_;
+  Camera partsCamera_;
+  std::vector<std::uint32_t> partsFront_;
+  std::vector<NodeDraw> partsDraws_;
+  std::optional<OcclusionPlan> partsPlan_;
 };
 
 }  // namespace hlod::test

@@ -216,6 +216,61 @@ Status FrameDriver::probeVTime(const Camera& camera) {
   return Ok{};
 }
 
+Result<std::optional<DrawReport>> FrameDriver::drawWhileLoading(const View& view,
+                                                                 const OcclusionPlan* plan,
+                                                                 FrameRecord& rec) {
+  auto uploadAll = [&]() -> Status {
+    drainLoader();
+    while (renderer_.pendingUploads() > 0) {
+      auto u = renderer_.upload(1e300, 0);
+      if (!u) return u.error();
+      rec.uploadMs += u->ms;
+      rec.uploads += u->uploads;
+      rec.uploadBytes += u->bytes;
+      if (u->uploads == 0) break;  // the rest deferred by the GPU memory budget
+    }
+    return Ok{};
+  };
+  if (auto s = uploadAll(); !s) return s.error();
+  // L_I: the front's nodes in memory now (on the GPU after the uploads); L_O: the rest.
+  std::vector<std::size_t> in, out;
+  for (std::size_t i = 0; i < lastFront_.size(); ++i)
+    (renderer_.onGpu().isResident(lastFront_[i]) ? in : out).push_back(i);
+  rec.listIn = static_cast<std::uint32_t>(in.size());
+  rec.listOut = static_cast<std::uint32_t>(out.size());
+  if (auto s = renderer_.beginParts(view.camera, lastFront_, lastDraws_, plan); !s)
+    return s.error();
+  if (auto s = renderer_.drawPart(in); !s) return s.error();
+  const auto deadline = Clock::now() + options_.settleTimeout;
+  std::vector<std::uint32_t> waiting;
+  while (!out.empty()) {
+    if (auto s = uploadAll(); !s) return s.error();
+    std::vector<std::size_t> arrived;
+    std::erase_if(out, [&](std::size_t i) {
+      const bool here = renderer_.onGpu().isResident(lastFront_[i]);
+      if (here) arrived.push_back(i);
+      return here;
+    });
+    if (!arrived.empty()) {
+      if (auto s = renderer_.drawPart(arrived); !s) return s.error();
+      continue;
+    }
+    // Nothing new on the GPU: wait for the loader (a stall) for the nodes it does not hold yet.
+    waiting.clear();
+    for (std::size_t i : out)
+      if (!loader_.isResident(lastFront_[i])) waiting.push_back(lastFront_[i]);
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    if (waiting.empty() || left.count() <= 0) break;  // held but not uploadable, or too late
+    rec.stalls = 1;
+    if (!loader_.waitUntilAnyResident(waiting, left)) break;
+  }
+  auto drawn = renderer_.endParts();
+  if (!drawn) return drawn.error();
+  // L_O did not all come (memory cap, a failed load, the timeout): drawn coarser instead.
+  if (!out.empty()) return std::optional<DrawReport>{};
+  return std::optional<DrawReport>{std::move(*drawn)};
+}
+
 bool FrameDriver::beginOcclusion(const CameraSample& sample) {
   // Last frame's answers: finished with its glFinish, so reading them does not wait.
   std::vector<OcclusionResult> answers = renderer_.occlusionResults();
@@ -318,12 +373,30 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
     loader_.prefetch(future.loadPriorities);
   }
 
+  std::optional<DrawReport> drawnInParts;
   if (settled) {
     auto onGpu = [&] {
       return std::all_of(sel.front.begin(), sel.front.end(),
                          [&](std::uint32_t n) { return renderer_.onGpu().isResident(n); });
     };
-    if (!onGpu()) {
+    if (!onGpu() && options_.renderWhileLoading && renderer_.canDrawInParts()) {
+      // Manocha 5.5: the resident part drawn while the rest loads.
+      lastFront_ = sel.front;
+      lastDraws_ = sel.draws;
+      orderNearToFar(selector_->skeleton(), view.camera.position, lastFront_, lastDraws_);
+      OcclusionPlan plan;
+      if (culling) plan = occlusion_.plan(lastFront_, sel.occluded);
+      const auto waitStart = Clock::now();
+      auto parts = drawWhileLoading(view, culling ? &plan : nullptr, rec);
+      if (!parts) return parts.error();
+      drawnInParts = std::move(*parts);
+      waitMs = std::max(0.0, msSince(waitStart) - (drawnInParts ? drawnInParts->ms : 0.0));
+      if (!drawnInParts) {
+        // L_O did not come: drawn coarser from what is on the GPU, as below.
+        sel = selector_->select(view, renderer_.onGpu());
+        loader_.setWanted(sel.loadPriorities);
+      }
+    } else if (!onGpu()) {
       // Settled uploads are unbudgeted and, like the wait, not part of the frame time.
       const auto waitStart = Clock::now();
       const bool loaded = std::all_of(sel.front.begin(), sel.front.end(),
@@ -351,13 +424,18 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
     }
   }
 
-  lastFront_ = sel.front;
-  lastDraws_ = sel.draws;
-  orderNearToFar(selector_->skeleton(), view.camera.position, lastFront_, lastDraws_);
-  OcclusionPlan plan;
-  if (culling) plan = occlusion_.plan(lastFront_, sel.occluded);
-  auto drawn = renderer_.draw(view.camera, lastFront_, lastDraws_, culling ? &plan : nullptr);
-  if (!drawn) return drawn.error();
+  Result<DrawReport> drawn = DrawReport{};
+  if (drawnInParts) {
+    drawn = std::move(*drawnInParts);
+  } else {
+    lastFront_ = sel.front;
+    lastDraws_ = sel.draws;
+    orderNearToFar(selector_->skeleton(), view.camera.position, lastFront_, lastDraws_);
+    OcclusionPlan plan;
+    if (culling) plan = occlusion_.plan(lastFront_, sel.occluded);
+    drawn = renderer_.draw(view.camera, lastFront_, lastDraws_, culling ? &plan : nullptr);
+    if (!drawn) return drawn.error();
+  }
 
   // Frame time: this frame's uploads plus the GL work through glFinish (settled-mode uploads
   // belong to the stall, not to the frame). v_time learns from the drawing alone.
@@ -373,6 +451,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   rec.time = sample.time;
   fillFromSelection(rec, sel);
   endOcclusion(sel, split, rec);
+  lastOccluded_ = sel.occluded;
   rec.gpuBytes = renderer_.gpuBytes();
   rec.gpuEvictions = renderer_.takeGpuEvictions();
   fillFromLoader(rec, loader_.counters());
@@ -385,7 +464,8 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   }
   rec.gpuMs = (settled ? 0.0 : rec.uploadMs) + drawn->ms;
   rec.pendingUploads = static_cast<std::uint32_t>(renderer_.pendingUploads());
-  rec.cpuMs = msSince(frameStart) - waitMs;
+  rec.wallMs = msSince(frameStart);
+  rec.cpuMs = rec.wallMs - waitMs;
   if (options_.recentFrames > 0) {
     if (recent_.size() >= options_.recentFrames) recent_.pop_front();
     recent_.push_back(rec);

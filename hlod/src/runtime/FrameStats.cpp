@@ -183,6 +183,7 @@ OrderedJson frameObject(const FrameRecord& f) {
           {"listOut", f.listOut},
           {"gpuBytes", f.gpuBytes},
           {"gpuEvictions", f.gpuEvictions},
+          {"wallMs", finiteOrZero(f.wallMs)},
           {"nodesPerLevel", f.nodesPerLevel}};
 }
 

@@ -496,6 +496,23 @@ bool Loader::waitUntilResident(std::span<const std::uint32_t> nodes,
   return all();
 }
 
+bool Loader::waitUntilAnyResident(std::span<const std::uint32_t> nodes,
+                                  std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  auto any = [&] {
+    return std::any_of(nodes.begin(), nodes.end(), [&](std::uint32_t n) { return isResident(n); });
+  };
+  if (!running()) {
+    while (!any()) {
+      if (std::chrono::steady_clock::now() > deadline || !step()) return any();
+    }
+    return true;
+  }
+  std::unique_lock lock(mutex_);
+  progressCv_.wait_until(lock, deadline, [&] { return any() || idle_; });
+  return any();
+}
+
 bool Loader::waitUntilIdle(std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   if (!running()) {

@@ -85,7 +85,8 @@ namespace renderer {
   X(READBUFFER, ReadBuffer)                           \
   X(UNIFORM2FV, Uniform2fv)                           \
   X(BLENDFUNC, BlendFunc)                             \
-  X(COLORMASK, ColorMask)
+  X(COLORMASK, ColorMask)                             \
+  X(UNIFORM1UI, Uniform1ui)
 
 struct GlFunctions {
 #define HLODR_GL_MEMBER(suffix, name) PFNGL##suffix##PROC name = nullptr;

@@ -7,6 +7,7 @@
 
 #include "hlod/runtime/FrameDriver.h"
 #include "renderer/GpuResidency.h"
+#include "renderer/IdBuffer.h"
 #include "renderer/Renderer.h"
 
 namespace renderer {
@@ -34,9 +35,20 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
   bool pendingOrOnGpu(std::uint32_t node) const override {
     return residency_.pendingOrOnGpu(node);
   }
+  bool canDrawInParts() const override { return renderer_->canDrawInParts(); }
+  hlod::Status beginParts(const hlod::Camera& camera, std::span<const std::uint32_t> front,
+                          std::span<const hlod::NodeDraw> draws,
+                          const hlod::OcclusionPlan* occlusion) override;
+  hlod::Status drawPart(std::span<const std::size_t> positions) override;
+  hlod::Result<hlod::DrawReport> endParts() override;
   // Debug view (`--show-occlusion`): the boxes of the nodes the last plan queried as hidden are
   // tinted over the frame, as Manocha's Fig. 5 shows the occluded clusters.
   void setShowOcclusion(bool show) { showOcclusion_ = show; }
+  // A measurement (IdBuffer): what of these nodes, drawn as `draws` says (empty: whole), shows
+  // from the camera. Nodes not on the GPU are left out. Leaves the occlusion answers alone.
+  hlod::Result<VisibleCount> countVisible(const hlod::Camera& camera,
+                                          std::span<const std::uint32_t> nodes,
+                                          std::span<const hlod::NodeDraw> draws = {});
   hlod::Image readback() override { return renderer_->readback(); }
   bool drawsShadowPass() const override {
     const auto& p = renderer_->passes();
@@ -61,7 +73,34 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
   std::vector<std::uint32_t> meshNodes_;
   std::vector<std::vector<std::uint32_t>> batchNodes_;
   std::vector<std::uint32_t> unqueried_;
-  bool answersTaken_ = true;
+  std::vector<hlod::OcclusionResult> answers_;  // the last frame's, until taken
+  void collectAnswers();
+  // What one frame's drawing needs: the view, the meshes with their query flags and node ids,
+  // and the occlusion queries' boxes (FrameSetup); kept over the parts of a frame drawn in parts.
+  struct FrameSetup {
+    FrameView view;
+    std::vector<std::uint32_t> front;
+    std::vector<hlod::NodeDraw> draws;
+    std::vector<std::uint8_t> queryDraw;  // per front position
+    std::vector<std::vector<hlod::Aabb>> boxBatches;
+    std::vector<const GpuMesh*> hiddenCasters;
+    std::vector<hlod::Aabb> tint;
+    OcclusionDraw occlusionDraw;
+    bool hasOcclusion = false;
+  };
+  // Builds the frame's setup: its view, and the occlusion queries' boxes (a box that reaches
+  // the near plane is not queried).
+  void setUp(const hlod::Camera& camera, std::span<const std::uint32_t> front,
+             std::span<const hlod::NodeDraw> draws, const hlod::OcclusionPlan* occlusion);
+  // The mesh to draw for the front's node at `position` (nullptr: not on the GPU); records it
+  // for the occlusion answers, with its query flag in queryMesh.
+  const GpuMesh* meshFor(std::size_t position, std::vector<std::uint8_t>& queryMesh);
+  bool reachesNear(const hlod::Aabb& box) const;
+  hlod::DrawReport report(const FrameTiming& t) const;
+  FrameSetup setup_;
+  std::unique_ptr<IdBuffer> idBuffer_;
+  double zNear_ = 0.0;
+  glm::dvec3 eye_{0.0}, forward_{0.0, 0.0, -1.0};
 };
 
 // Near and far planes that hold the box seen from the camera (reversed-Z makes a wide range

@@ -92,6 +92,16 @@ class Renderer {
   };
   OcclusionAnswers occlusionAnswers() const;
 
+  // Render while loading (Manocha sec. 5.5): a frame drawn in parts as its nodes arrive.
+  // beginParts clears the frame; each drawPart draws more of the front, timed through its
+  // glFinish (returned, ms); endParts runs the box pass and the passes after the geometry.
+  // Not with a shadow pass, whose map needs the whole front before the geometry.
+  bool canDrawInParts() const { return !has(Pass::Shadow); }
+  void beginParts(const FrameView& view, const OcclusionDraw* occlusion);
+  double drawPart(const FrameView& view, std::span<const GpuMesh* const> meshes,
+                  std::span<const std::uint8_t> queryMesh);
+  FrameTiming endParts(const FrameView& view);
+
   // The last frame's pixels, RGBA8, row 0 at the top.
   hlod::Image readback();
 
@@ -127,6 +137,13 @@ class Renderer {
                   std::span<const GpuMesh* const> moreCasters);
   void geometryPass(const FrameView& view, std::span<const GpuMesh* const> meshes,
                     FrameTiming& timing, std::span<const std::uint8_t> queryMesh);
+  void clearGeometry();
+  // Draws meshes into the geometry pass; firstIndex: the first mesh's index in the frame (the
+  // occlusion answers are per frame index).
+  void drawMeshes(const FrameView& view, std::span<const GpuMesh* const> meshes,
+                  FrameTiming& timing, std::span<const std::uint8_t> queryMesh,
+                  std::size_t firstIndex);
+  void prepareOcclusion(const OcclusionDraw* occlusion);
   void skyPass(const FrameView& view);
   void fullscreenPass(ProgramKind kind, GLuint target, GLuint input, const FrameView& view);
 
@@ -151,6 +168,12 @@ class Renderer {
   GlObject occlusionTimer_;
   std::vector<std::size_t> queriedMeshes_;  // this frame's draws wrapped in a query
   bool occlusionPass_ = false;              // this frame's box pass ran
+  // A frame drawn in parts: what it has measured so far.
+  FrameTiming parts_;
+  std::size_t partsMeshes_ = 0;
+  double geometryPartsMs_ = 0.0;
+  OcclusionDraw partsOcclusion_;
+  bool partsHaveOcclusion_ = false;
 };
 
 // Writes an image; the format follows the extension (.png, .jpg/.jpeg, .exr, .tif, ...).

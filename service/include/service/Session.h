@@ -49,6 +49,11 @@ struct SessionOptions {
   std::uint32_t cacheStore = 0;            // the store's number in the cache
   double knownVTime = 0.0;                 // > 0: start from this v_time instead of measuring one
   std::size_t recentFrames = 600;          // FrameRecords kept for recent() (a bounded ring)
+  hlod::OcclusionMode occlusion = hlod::OcclusionMode::Auto;  // occlusion culling
+  std::uint64_t gpuBudgetBytes = 0;  // GPU memory budget (GpuMemoryManager); 0 = none
+  bool showOcclusion = false;        // debug view: the occluded nodes' boxes tinted
+  bool renderWhileLoading = true;    // settled frames drawn while their front loads
+  bool predict = true;               // realtime frames without a path prefetch a predicted camera
 };
 
 class Session {
@@ -80,6 +85,7 @@ class Session {
   hlod::metrics::Mask coverage();
 
   hlod::FrameDriver& driver() { return *driver_; }
+  renderer::GpuNodeRenderer& gpu() { return *renderer_; }
   const hlod::Selector& selector() const { return driver_->selector(); }
   const hlod::Skeleton& skeleton() const { return source_->skeleton(); }
   const renderer::ContextInfo& contextInfo() const { return context_->info(); }

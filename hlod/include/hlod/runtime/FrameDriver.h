@@ -83,8 +83,10 @@ class NodeRenderer {
   virtual Result<DrawReport> draw(const Camera& camera, std::span<const std::uint32_t> front,
                                   std::span<const NodeDraw> draws,
                                   const OcclusionPlan* occlusion = nullptr) = 0;
-  // The answers to the last draw's queries, taken once (a second call returns nothing). A query
-  // whose result is not available, or that was not issued, is left out.
+  // The answers to the last frame's queries, taken once (a second call returns nothing): read
+  // after that frame's glFinish, so without a wait, and used by the frame after it. A query
+  // whose result is not available, or that was not issued, is answered "not answered". Draws
+  // without queries in between (a measurement) leave them alone.
   virtual std::vector<OcclusionResult> occlusionResults() { return {}; }
   // Bytes of the GPU copies held now (buffers, and each texture once).
   virtual std::uint64_t gpuBytes() const { return 0; }
@@ -95,6 +97,21 @@ class NodeRenderer {
   virtual void setGpuBudget(std::uint64_t /*bytes*/) {}
   // Whether the node is on the GPU or queued for an upload.
   virtual bool pendingOrOnGpu(std::uint32_t node) const { return onGpu().isResident(node); }
+  // Render while loading (Manocha sec. 5.5): a frame drawn in parts, the resident part of its
+  // front first (L_I) and each missing node as it arrives (L_O). beginParts takes the whole
+  // front (near to far) and its queries; drawPart draws the nodes at these positions of it (on
+  // the GPU); endParts finishes the frame. Renderers that cannot (no parts, or a shadow pass
+  // whose map needs the whole front first) answer false and are drawn whole.
+  virtual bool canDrawInParts() const { return false; }
+  virtual Status beginParts(const Camera& /*camera*/, std::span<const std::uint32_t> /*front*/,
+                            std::span<const NodeDraw> /*draws*/,
+                            const OcclusionPlan* /*occlusion*/) {
+    return makeError("this renderer draws no parts");
+  }
+  virtual Status drawPart(std::span<const std::size_t> /*positions*/) {
+    return makeError("this renderer draws no parts");
+  }
+  virtual Result<DrawReport> endParts() { return makeError("this renderer draws no parts"); }
   // The last frame's pixels, RGBA8, row 0 at the top.
   virtual Image readback() = 0;
   // Whether draw() runs a "shadow" pass: the front drawn again, depth only, from the sun.
@@ -130,6 +147,9 @@ struct FrameDriverOptions {
   OcclusionMode occlusion = OcclusionMode::Auto;
   OcclusionParams occlusionParams;
   std::uint64_t gpuBudgetBytes = 0;  // GPU memory budget (NodeRenderer::setGpuBudget); 0: none
+  // Settled frames draw the resident part of their front while the loader brings the rest
+  // (Manocha sec. 5.5) where the renderer can draw in parts; false: they wait for all of it.
+  bool renderWhileLoading = true;
   // Realtime frames without a look-ahead camera (an interactive session) prefetch for the
   // camera their recent motion predicts (MotionPredictor).
   bool predict = true;
@@ -166,6 +186,8 @@ class FrameDriver {
   // The front the last frame drew, near to far.
   const std::vector<std::uint32_t>& lastFront() const { return lastFront_; }
   const std::vector<NodeDraw>& lastDraws() const { return lastDraws_; }  // lastFront()'s
+  // The nodes the last frame left out as occluded (Selection::occluded).
+  const std::vector<std::uint32_t>& lastOccluded() const { return lastOccluded_; }
   // The last options().recentFrames records, oldest first.
   const std::deque<FrameRecord>& recent() const { return recent_; }
   // The v_time start() measured (0 before start, or when it was given): the probe's where
@@ -179,6 +201,11 @@ class FrameDriver {
   // Queues for upload the nodes the loader holds but the GPU does not (freed there by the GPU
   // memory budget): the frame wants them again.
   void requeue(std::span<const std::uint32_t> nodes);
+  // A settled frame whose front is not all on the GPU, drawn while the rest loads (L_I first,
+  // then each node of L_O as it arrives). Nothing (no report) when the renderer cannot, or when
+  // L_O did not arrive in time (the frame is then drawn coarser as before).
+  Result<std::optional<DrawReport>> drawWhileLoading(const View& view, const OcclusionPlan* plan,
+                                                     FrameRecord& rec);
   Status probeVTime(const Camera& camera);
   // Draws `front` once to pay its first use, then three times: the draw of median geometry time.
   Result<DrawSplit> timeDraws(const Camera& camera, std::span<const std::uint32_t> front,
@@ -205,6 +232,7 @@ class FrameDriver {
   std::deque<FrameRecord> recent_;
   std::vector<std::uint32_t> lastFront_;
   std::vector<NodeDraw> lastDraws_;  // lastFront_'s
+  std::vector<std::uint32_t> lastOccluded_;
   MotionPredictor predictor_;
   OcclusionCulling occlusion_;
   OcclusionAuto occlusionAuto_;

@@ -25,7 +25,8 @@
 //     subtrees because a query found them hidden, and their own triangles), listIn and listOut
 //     (settled frames: front nodes resident when the frame began, L_I, and those it waited for,
 //     L_O; Manocha 5.5), gpuBytes (bytes of the session's GPU copies after the frame),
-//     gpuEvictions (GPU copies freed this frame by the GPU memory budget).
+//     gpuEvictions (GPU copies freed this frame by the GPU memory budget), wallMs (the frame's
+//     whole wall time, waits for the loader and uploads included, ms).
 //   summary: frames, medianRelError and p95RelError (of |gpuMs - targetMs| / targetMs),
 //     shareOverTarget and shareOver125 (fraction of frames with gpuMs > target, > 1.25 target),
 //     p99OverTarget (p99 of gpuMs / targetMs), meanGpuMs, totalStalls, peakResidentBytes,
@@ -96,6 +97,7 @@ struct FrameRecord {
   std::uint32_t listOut = 0;
   std::uint64_t gpuBytes = 0;
   std::uint32_t gpuEvictions = 0;
+  double wallMs = 0.0;
 };
 
 // Copies the selector's part (targetMs, estimatedMs, triangles, levels, toggles, vTime, ...).

@@ -165,6 +165,10 @@ class Loader final : public Residency {
   // Settled mode: waits until all nodes are resident (true) or the timeout passes (false).
   // Only wanted/prefetched nodes get loaded. Without the thread it steps on the caller's thread.
   bool waitUntilResident(std::span<const std::uint32_t> nodes, std::chrono::milliseconds timeout);
+  // Render while loading: waits until at least one of the nodes is resident (true), or the
+  // timeout passes or the loader has nothing more it can load (false).
+  bool waitUntilAnyResident(std::span<const std::uint32_t> nodes,
+                            std::chrono::milliseconds timeout);
   // Waits until nothing more can be loaded for the current wanted set (all loaded, or memory
   // full of more important nodes). Returns false on timeout.
   bool waitUntilIdle(std::chrono::milliseconds timeout);
