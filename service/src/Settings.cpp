@@ -77,6 +77,17 @@ std::vector<Setting> makeTable() {
       row("memoryMb", "memory-mb", "memoryMb", K::Number, 0, 1e6, "0", "MB",
           "cap on the session's decoded node payloads in MB (0: none)",
           "render STORE, study, POST /api/sessions, /api/jobs"),
+      row("occlusion", "occlusion", "occlusion", K::Choice, 0, 0, "auto", "on|off|auto",
+          "occlusion culling with hardware queries (Manocha sec. 4): auto turns it on while the "
+          "time its queries save exceeds the time they cost",
+          std::string("render STORE, study, ") + frames, {"on", "off", "auto"}),
+      row("gpuMb", "gpu-mb", "gpuMb", K::Number, 0, 1e6, "0", "MB",
+          "GPU memory budget in MB: nodes out of the front are evicted least recently used "
+          "first (0: none)",
+          "render STORE, POST /api/sessions, /api/jobs"),
+      row("showOcclusion", "show-occlusion", "showOcclusion", K::Flag, 0, 0, "off", "",
+          "tint the boxes of the nodes occlusion culling hid (debug view)",
+          "render STORE, POST /api/sessions"),
       row("mode", "mode", "mode", K::Choice, 0, 0, "realtime", "M",
           "realtime: never wait for loading (nodes not yet loaded are drawn coarser); settled: "
           "wait until the selected front is loaded (frames independent of I/O timing)",

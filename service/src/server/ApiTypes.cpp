@@ -5,9 +5,11 @@
 namespace service::server {
 
 std::string RenderSettings::key() const {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "%dx%d/%g/%s/%g/%llu", width, height, budgetMs, selector.c_str(),
-                ssePx, static_cast<unsigned long long>(memoryCapBytes));
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "%dx%d/%g/%s/%g/%llu/%s/%llu/%d", width, height, budgetMs,
+                selector.c_str(), ssePx, static_cast<unsigned long long>(memoryCapBytes),
+                std::string(hlod::occlusionModeName(occlusion)).c_str(), static_cast<unsigned long long>(gpuBudgetBytes),
+                int(showOcclusion));
   return buf + ("/" + effectsKey);
 }
 
@@ -18,14 +20,18 @@ nlohmann::json RenderSettings::json() const {
                       {"selector", selector},
                       {"ssePx", ssePx},
                       {"memoryMb", double(memoryCapBytes) / (1024.0 * 1024.0)},
+                      {"occlusion", std::string(hlod::occlusionModeName(occlusion))},
+                      {"gpuMb", double(gpuBudgetBytes) / (1024.0 * 1024.0)},
+                      {"showOcclusion", showOcclusion},
                       {"effects", hlod::declaredEffects(effects)}};
   if (!sceneFile.empty()) j["sceneFile"] = sceneFile;
   return j;
 }
 
 const std::set<std::string>& renderSettingFields() {
-  static const std::set<std::string> fields = {"width",    "height", "budgetMs",
-                                               "selector", "ssePx",  "memoryMb"};
+  static const std::set<std::string> fields = {
+      "width", "height", "budgetMs", "selector", "ssePx", "memoryMb", "occlusion", "gpuMb",
+      "showOcclusion"};
   return fields;
 }
 
@@ -38,19 +44,29 @@ ApiResult<RenderSettings> readRenderSettings(const JsonInput& in, int maxSize, b
   auto selector = in.choice(get("selector"));
   auto sse = in.number(get("ssePx"));
   auto mem = in.number(get("memoryMb"));
+  auto occlusion = in.choice(get("occlusion"));
+  auto gpu = in.number(get("gpuMb"));
+  auto show = in.boolean(get("showOcclusion"));
   if (!w) return badRequest(w.message());
   if (!h) return badRequest(h.message());
   if (!budget) return badRequest(budget.message());
   if (!selector) return badRequest(selector.message());
   if (!sse) return badRequest(sse.message());
   if (!mem) return badRequest(mem.message());
+  if (!occlusion) return badRequest(occlusion.message());
+  if (!gpu) return badRequest(gpu.message());
+  if (!show) return badRequest(show.message());
   if (!memory && in.has("memoryMb")) return badRequest("memoryMb: only for sessions and jobs");
+  if (!memory && in.has("gpuMb")) return badRequest("gpuMb: only for sessions and jobs");
   s.width = int(*w);
   s.height = int(*h);
   s.budgetMs = *budget;
   s.selector = *selector;
   s.ssePx = *sse;
   s.memoryCapBytes = static_cast<std::uint64_t>(*mem * 1024.0 * 1024.0);
+  s.occlusion = *hlod::parseOcclusionMode(*occlusion);  // the table's choices parse
+  s.gpuBudgetBytes = static_cast<std::uint64_t>(*gpu * 1024.0 * 1024.0);
+  s.showOcclusion = *show;
   return s;
 }
 

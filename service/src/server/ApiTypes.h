@@ -13,6 +13,7 @@
 
 #include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/FrameStats.h"
+#include "hlod/runtime/OcclusionAuto.h"
 #include "hlod/scene/SceneFile.h"
 #include "renderer/ImageEncoder.h"
 #include "server/JsonInput.h"
@@ -54,6 +55,9 @@ struct RenderSettings {
   std::string selector = "lakhia";
   double ssePx = 16.0;
   std::uint64_t memoryCapBytes = 0;
+  hlod::OcclusionMode occlusion = hlod::OcclusionMode::Auto;
+  std::uint64_t gpuBudgetBytes = 0;
+  bool showOcclusion = false;
   hlod::SceneEffects effects = hlod::defaultEffects();  // from the request's `scene`
   std::string effectsKey;                   // SceneChoice::key: equal effects, equal key
   std::optional<hlod::SceneCamera> camera;  // the scene file's: where sessions and orbits start
@@ -62,7 +66,8 @@ struct RenderSettings {
   nlohmann::json json() const;
 };
 
-// Reads width, height, budgetMs, selector, ssePx (and memoryMb when allowed), by the settings
+// Reads width, height, budgetMs, selector, ssePx, occlusion, showOcclusion (and memoryMb and
+// gpuMb when allowed), by the settings
 // table (service/Settings.h); width and height at most maxSize.
 ApiResult<RenderSettings> readRenderSettings(const JsonInput& in, int maxSize, bool memory);
 const std::set<std::string>& renderSettingFields();

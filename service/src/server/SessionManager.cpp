@@ -30,6 +30,9 @@ hlod::Result<std::unique_ptr<Session>> openSession(Scene& scene, const RenderSet
   o.selector = settings.selector;
   o.selectorParams.ssePixels = settings.ssePx;
   o.memoryCapBytes = settings.memoryCapBytes;
+  o.occlusion = settings.occlusion;
+  o.gpuBudgetBytes = settings.gpuBudgetBytes;
+  o.showOcclusion = settings.showOcclusion;
   o.effects = settings.effects;
   o.cache = cache;
   o.cacheStore = scene.cacheStore;
