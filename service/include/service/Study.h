@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hlod/runtime/CameraPath.h"
+#include "hlod/runtime/OcclusionAuto.h"
 #include "hlod/runtime/Selector.h"
 #include "hlod/scene/SceneFile.h"
 #include "hlod/store/NodeSource.h"
@@ -33,6 +34,10 @@ struct StudyOptions {
   bool realtime = false;
   std::size_t stripFrames = 3;  // frames shown in strips at every Lakhia budget
   std::uint64_t memoryCapBytes = 0;
+  // Occlusion culling of the studied runs (the reference draws every node): with it on, each
+  // settled studied frame follows two unmeasured frames 1/fps apart, so that it is culled with
+  // the answers of the frame before, as on a walk, not drawn as a path's first frame.
+  hlod::OcclusionMode occlusion = hlod::OcclusionMode::Auto;
   // Selector constants of every studied run (`--params`: splats, progressive, c_aim ...); the
   // reference draws full detail with the defaults.
   hlod::SelectorParams selectorParams;

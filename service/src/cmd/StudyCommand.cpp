@@ -32,6 +32,7 @@ const char* const kStudyUsage =
     "{study.mode}\n"
     "{study.strips}\n"
     "{memoryMb}\n"
+    "{occlusion}\n"
     "  --params N=V,...        selector constants of the studied runs, as for `hlodr render`\n"
     "                          (splats=1, progressive=0 ...); the reference uses the defaults\n"
     "{splats}\n"
@@ -44,7 +45,8 @@ int runStudy(const Argv& argv) {
   auto args =
       Args::parse(argv, {"quiet", "unlit", "no-textures", "fog"},
                   {"output", "path", "kind", "budgets", "selectors", "sse-px", "size", "frames",
-                   "fps", "mode", "strips", "memory-mb", "scene", "params", "splats"});
+                   "fps", "mode", "strips", "memory-mb", "scene", "params", "splats",
+                   "occlusion"});
   if (!args) return commandError("study", args.message() + "\n" + expandUsage(kStudyUsage), 2);
   if (args->positionals().size() != 1)
     return commandError(
@@ -86,6 +88,9 @@ int runStudy(const Argv& argv) {
   auto splats = args->choice(get("splats"));
   if (!splats) return commandError("study", splats.message(), 2);
   if (args->has("splats")) o.selectorParams.splats = *splats == "on";
+  auto occlusion = args->choice(get("occlusion"));
+  if (!occlusion) return commandError("study", occlusion.message(), 2);
+  o.occlusion = *hlod::parseOcclusionMode(*occlusion);  // the table's choices parse
   auto studyMode = args->choice(get("study.mode"));
   if (!studyMode) return commandError("study", studyMode.message(), 2);
   const std::string mode = *studyMode;
@@ -121,6 +126,7 @@ int runStudy(const Argv& argv) {
       {"ssePx", o.ssePx},
       {"params", args->get("params", "")},
       {"splats", o.selectorParams.splats},
+      {"occlusion", *occlusion},
       {"scene", declared->fromFile ? declared->file.string() : std::string("default effects")}};
   ProgressLine progress("study", args->has("quiet"));
   auto report = service::runStudy(

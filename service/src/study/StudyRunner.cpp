@@ -104,6 +104,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   {
     SessionOptions ro = base;
     ro.selector = "full";
+    ro.occlusion = hlod::OcclusionMode::Off;
     auto s = Session::create(source, ro, gl);
     if (!s) return hlod::makeError("reference: " + s.message());
     for (std::uint64_t f : frames) {
@@ -141,6 +142,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
     so.budgetMs = c.budgetMs;
     so.selectorParams.ssePixels = c.ssePx > 0.0 ? c.ssePx : so.selectorParams.ssePixels;
     so.knownVTime = knownVTime;
+    so.occlusion = o.occlusion;
     auto s = Session::create(source, so, gl);
     if (!s) return hlod::makeError(c.label() + ": " + s.message());
     Run run;
@@ -153,6 +155,11 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
       const bool studied = next < frames.size() && frames[next] == f;
       if (c.mode == hlod::FrameMode::Settled && !studied) continue;
       if (cancelled()) return hlod::makeError("cancelled");
+      if (c.mode == hlod::FrameMode::Settled && o.occlusion != hlod::OcclusionMode::Off)
+        for (std::uint64_t w = f - std::min<std::uint64_t>(f, 2); w < f; ++w)
+          if (auto warm = (*s)->renderFrame(path.sampleFrame(w, o.fps, aspect), c.mode); !warm)
+            return hlod::makeError(c.label() + ", frame " + std::to_string(w) + ": " +
+                                   warm.message());
       const hlod::CameraSample sample = path.sampleFrame(f, o.fps, aspect);
       auto rec = (*s)->renderFrame(sample, c.mode);
       if (!rec)
