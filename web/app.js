@@ -88,6 +88,8 @@ function readSettings() {
     selector,
     ssePx: selector === 'sse' ? numberField('#sse-px') : undefined,
     memoryMb: numberField('#memory'),
+    occlusion: $('#occlusion').value,
+    showOcclusion: $('#show-occlusion').checked,
     mode: $('#mode').value,
   };
 }
@@ -179,6 +181,7 @@ async function startJob(event) {
       ssePx: s.ssePx,
       mode: s.mode,
       memoryMb: s.memoryMb,
+      occlusion: s.occlusion,
     });
     errors.clear('job');
     jobView.follow(job, scene.levels);

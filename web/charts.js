@@ -131,10 +131,11 @@ export class Dashboard {
         title: 'HLODs drawn per level (stacked)', yLabel: 'nodes', stacked: true, whole: true, series: levelSeries(1),
       }),
       toggles: new Chart(containers.toggles, {
-        title: 'Toggles per frame', yLabel: 'nodes', whole: true,
+        title: 'Toggles and occluded nodes per frame', yLabel: 'nodes', whole: true,
         series: [
           { label: 'up (finer)', colour: '#2e8b57', value: (r) => r.upToggles },
           { label: 'down (coarser)', colour: '#d2691e', value: (r) => r.downToggles },
+          { label: 'occluded', colour: '#7f8c8d', dash: [4, 3], value: (r) => r.occludedNodes || 0 },
         ],
       }),
       memory: new Chart(containers.memory, {

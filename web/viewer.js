@@ -43,7 +43,7 @@ export class Viewer {
 
   // Starts over with a scene (an entry of GET /api/scenes), one of its scene files (a name, or
   // null for the store's defaults) and settings {width, height, budgetMs, selector, ssePx,
-  // memoryMb, mode}: the old session is closed and the next frame opens a new one. The camera is
+  // memoryMb, occlusion, showOcclusion, mode}: the old session is closed and the next frame opens a new one. The camera is
   // kept when only the settings change; a new scene or scene file starts from the new session's
   // defaultCamera, which is the scene file's camera when it declares one.
   configure(scene, sceneFile, settings) {
@@ -125,6 +125,8 @@ export class Viewer {
       selector: s.selector,
       ssePx: s.ssePx,
       memoryMb: s.memoryMb,
+      occlusion: s.occlusion,
+      showOcclusion: s.showOcclusion,
     });
     if (generation !== this.generation) {
       this.toClose.push(session); // the settings changed while it opened
@@ -208,6 +210,11 @@ export class Viewer {
       el('div', { class: 'ov-bar', title: 'frame time; the mark is the budget' },
         el('i', { class: level, style: `width: ${Math.min(100, (ratio || 0) * 50)}%` })),
       el('div', {}, `${formatCount(s.triangles)} triangles · ${this.settings.selector}`),
+      s.occlusion
+        ? el('div', { class: 'ov-occlusion', title: 'occlusion culling: nodes hidden behind what was drawn' },
+          `${formatCount(s.occludedNodes)} nodes occluded (${formatCount(s.occludedTriangles)} triangles) · ` +
+          `${formatCount(s.occlusionQueries)} queries · ${formatMs(s.occlusionMs)} ms`)
+        : null,
       el('div', { class: 'ov-levels', title: 'nodes drawn per HLOD level' },
         'nodes per level ',
         s.cellNodes ? el('span', {}, el('span', { class: 'ov-level' }, 'cells'), ` ${s.cellNodes}`) : '',
