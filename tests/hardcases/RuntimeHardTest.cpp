@@ -192,9 +192,12 @@ TEST_F(RuntimeHard, AFullDiskLeavesNoTornFrameOrEmptyStats) {
   makeStore();
   const fs::path out = dir / "frames";
   auto r = gltest::runHlodr("render " + store().string() + " --path " + path().string() + " -o " +
-                                out.string() + " --frames 3 --size 320x180 --quiet",
+                                out.string() + " --frames 3 --size 640x360 --quiet",
                             "trap '' XFSZ; ulimit -f 16;");
+  // 640x360: a frame is larger than the limit (at 320x180 they came just under it and fit).
   EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("cannot write"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out / "frame_00000.png"));
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(out, ec)) {
     const std::string name = e.path().filename().string();
