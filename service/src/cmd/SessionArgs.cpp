@@ -25,6 +25,13 @@ hlod::Result<SessionOptions> sessionFromArgs(const Args& args) {
   auto splats = args.choice(get("splats"));
   if (!splats) return splats.error();
   if (args.has("splats")) so.selectorParams.splats = *splats == "on";
+  auto occlusion = args.choice(get("occlusion"));
+  if (!occlusion) return occlusion.error();
+  so.occlusion = *hlod::parseOcclusionMode(*occlusion);  // the table's choices parse
+  auto gpu = args.number(get("gpuMb"));
+  if (!gpu) return gpu.error();
+  so.gpuBudgetBytes = static_cast<std::uint64_t>(*gpu * 1048576.0);
+  so.showOcclusion = args.has("show-occlusion");
   return so;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // What a session of a node store takes from the command line, for one frame (`hlodr render
 // STORE`) and for a path (`hlodr render STORE --path`): --size, --budget-ms, --memory-mb,
-// --selector, --params and --splats, by the settings table.
+// --selector, --params, --splats, --occlusion, --gpu-mb and --show-occlusion, by the settings
+// table.
 #include "service/Args.h"
 #include "service/Session.h"
 
