@@ -58,6 +58,14 @@ TEST_F(HlodrCli, RendersAMeshFileAndPrintsTimesAndTriangles) {
   EXPECT_EQ(img->height, 48);
 }
 
+TEST_F(HlodrCli, ACityJsonFileIsDrawnWithADrawCallPerColourNotPerMaterial) {
+  // Six surfaces, each with a material of its own, in three colours.
+  const auto r = hlodr("render " + std::string(HLODR_TEST_DATA) + "/six-materials.city.json -o " +
+                       path("m.png") + " --size 64x48");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("6 triangles, 3 draw calls"), std::string::npos) << r.output;
+}
+
 TEST_F(HlodrCli, EglAndOsMesaBackendsRenderTheSameFrame) {
   const std::string args = "render " + path("tetra.off") + " --size 96x64 -o ";
   const auto a = hlodr(args + path("egl.png"), "HLODR_GL_BACKEND=egl");
