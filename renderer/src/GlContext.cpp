@@ -25,7 +25,14 @@ hlod::Status initialiseContext(GlContext& context, std::string backend, std::str
                            " is below the 4.5 hlodr needs (glClipControl)");
   context.info_ = ContextInfo{std::move(backend), str(GL_VERSION), str(GL_RENDERER), str(GL_VENDOR),
                               std::move(skipped)};
+  context.info_.gpuTimers = timerQueriesTimeTheGpu(context.info_.renderer);
   return hlod::Ok{};
+}
+
+bool timerQueriesTimeTheGpu(const std::string& renderer) {
+  for (const char* software : {"llvmpipe", "softpipe", "swrast", "Software Rasterizer"})
+    if (renderer.find(software) != std::string::npos) return false;
+  return true;
 }
 
 hlod::Result<Backend> backendFromEnvironment() {

@@ -285,6 +285,7 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
   const auto start = Clock::now();
   const GlFunctions& g = gl();
   FrameTiming timing;
+  timing.gpuTimed = context_.info().gpuTimers;
   g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   queriedMeshes_.clear();
   occlusionPass_ = false;

@@ -160,8 +160,9 @@ TEST(DegenerateTree, ANodeWhoseChildrenAreAllInvisibleIsDrawnAsAtFullDetailWitho
 
 TEST(DegenerateTree, ANodeThatCostsNothingIsCountedAtTheCostFloor) {
   Skeleton sk = facadeInThirds();
-  sk.nodes[2].cost = 0.0;
-  sk.nodes[2].numTri = 0;
+  const std::uint32_t free = 2;  // the middle third, right in front of the camera
+  sk.nodes[free].cost = 0.0;
+  sk.nodes[free].numTri = 0;
   for (double floor : {1.0, 0.0}) {  // c_minCost: the default, and the least accepted
     hlod::SelectorParams params;
     params.lakhia.c_minCost = floor;
@@ -169,7 +170,42 @@ TEST(DegenerateTree, ANodeThatCostsNothingIsCountedAtTheCostFloor) {
       SCOPED_TRACE(std::string(name) + " c_minCost " + std::to_string(floor));
       const Frames f = run(name, sk, facadeView(), hlod::AllResident{}, params);
       expectSane(sk, facadeView(), hlod::AllResident{}, f);
+      int drawn = 0;
+      for (const hlod::Selection& s : f.selections) {
+        // The front's estimate: every other node at its cost, the free one at the floor; a floor
+        // of 0 still counts it at something above nothing (its priority and timeNeeded finite).
+        double others = 0.0;
+        bool hasFree = false;
+        for (std::uint32_t n : s.front) {
+          if (n == free)
+            hasFree = true;
+          else
+            others += sk.nodes[n].cost;
+        }
+        drawn += hasFree;
+        if (!hasFree) {
+          EXPECT_DOUBLE_EQ(s.estimatedCost, others);
+        } else if (floor > 0.0) {
+          EXPECT_DOUBLE_EQ(s.estimatedCost, others + floor);
+        } else {
+          EXPECT_GT(s.estimatedCost, others);
+          EXPECT_NEAR(s.estimatedCost, others, 1e-6);
+        }
+        EXPECT_DOUBLE_EQ(s.estimatedMs, s.spentMs + s.frontDraws * s.vTime * s.estimatedCost);
+      }
+      // Nothing stands between the camera and that third at full detail: the reference draws it.
+      if (std::string(name) == "full") {
+        EXPECT_EQ(drawn, int(f.selections.size()));
+      }
     }
+    hlod::LakhiaSelector lakhia(sk, params);
+    lakhia.select(facadeView(), hlod::AllResident{});
+    const double needed = lakhia.timeNeeded(free);
+    EXPECT_TRUE(std::isfinite(needed) && needed > 0.0);
+    if (floor > 0.0) {
+      EXPECT_DOUBLE_EQ(needed, lakhia.vTime() * floor);
+    }
+    EXPECT_TRUE(std::isfinite(lakhia.priority(free)));
   }
 }
 

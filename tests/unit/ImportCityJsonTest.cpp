@@ -217,6 +217,26 @@ TEST(CityJsonImport, AMaterialDiffuseColourIsChosenOverSemantics) {
   EXPECT_EQ(r->meshes[0].baseColor, surfaceColour(SurfaceClass::Roof));
 }
 
+TEST(CityJsonImport, MaterialsOfEqualColourShareOneMesh) {
+  // Six triangles side by side, each with a material of its own; the six materials repeat three
+  // colours (as files that give every surface its own material do), one of them differing from
+  // another in transparency alone.
+  auto m = importModel(std::filesystem::path(HLODR_TEST_DATA) / "six-materials.city.json");
+  ASSERT_TRUE(m.ok()) << m.message();
+  // Three colours as drawn: red (3 triangles), opaque grey (2) and half-transparent grey (1); a
+  // mesh each, named after the first material of its colour.
+  ASSERT_EQ(m->meshes.size(), 3u);
+  const Mesh* red = meshNamed(*m, "material brick");
+  const Mesh* grey = meshNamed(*m, "material concrete");
+  const Mesh* glass = meshNamed(*m, "material glass");
+  ASSERT_TRUE(red && grey && glass);
+  EXPECT_EQ(red->triangleCount(), 3u);
+  EXPECT_EQ(grey->triangleCount(), 2u);
+  EXPECT_EQ(glass->triangleCount(), 1u);
+  EXPECT_FLOAT_EQ(glass->baseColor.a, 0.5f);
+  EXPECT_EQ(m->triangleCount(), 6u);
+}
+
 json twoLods() {
   // LoD 1: a unit square (2 triangles); LoD 2.2: a pentagon (3 triangles).
   return doc(

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ManualLinkClock.h"
 #include "RuntimeTestScene.h"
 #include "hlod/runtime/LakhiaSelector.h"
 #include "hlod/runtime/Loader.h"
@@ -10,7 +11,9 @@
 namespace hlod {
 namespace {
 
+using test::GatedLinkClock;
 using test::makeSyntheticCity;
+using test::ManualLinkClock;
 using test::MemoryNodeSource;
 using test::SyntheticCity;
 
@@ -293,10 +296,12 @@ TEST(Loader, PrefetchLoadsNodesThatNoFrameWantsYet) {
 TEST(Loader, ThrottlingEmulatesLatencyPerRequestAndBandwidth) {
   MemoryNodeSource src(makeSyntheticCity(smallCity()));
   const Skeleton& sk = src.skeleton();
+  auto clock = std::make_shared<ManualLinkClock>();
   LoaderParams p;
   p.chunkBytes = 24000;  // two chunks a node
   p.ioLatencyMs = 5.0;
   p.ioMbps = 96.0;  // 24000 bytes = 192000 bits: 2 ms
+  p.clock = clock;
   Loader loader(src, p);
   ASSERT_TRUE(loader.loadRoots().ok());
   const std::uint64_t rootRequests = loader.counters().requests;
@@ -306,21 +311,24 @@ TEST(Loader, ThrottlingEmulatesLatencyPerRequestAndBandwidth) {
   ASSERT_EQ(sk.nodes[b].parent, sk.nodes[a].parent);
   ASSERT_EQ(sk.nodes[b].payloadOffset, sk.nodes[a].payloadOffset + sk.nodes[a].payloadSize);
   loader.setWanted(requests({{a, 1.0}, {b, 0.5}}));
+  // The emulated time one step took on the link.
   auto timedStep = [&] {
-    const auto t0 = std::chrono::steady_clock::now();
+    const double t0 = clock->elapsedMs();
     EXPECT_TRUE(loader.step());
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return clock->elapsedMs() - t0;
   };
-  EXPECT_GE(timedStep(), 7.0);  // a new request: latency and transfer
+  EXPECT_NEAR(timedStep(), 5.0 + 2.0, 1e-6);  // a new request: latency and transfer
   EXPECT_EQ(loader.counters().requests, rootRequests + 1);
-  EXPECT_GE(timedStep(), 2.0);  // its second chunk goes on with the same request
-  timedStep();                  // the decode
-  ASSERT_TRUE(loader.isResident(a));
-  EXPECT_GE(timedStep(), 2.0);  // b is stored right after a: still the same request
+  EXPECT_FALSE(loader.isResident(a));
+  EXPECT_NEAR(timedStep(), 2.0, 1e-6);  // its second chunk goes on with the same request
+  ASSERT_TRUE(loader.isResident(a));    // and the decode finishes it in that step
+  EXPECT_NEAR(timedStep(), 2.0, 1e-6);  // b is stored right after a: still the same request
   EXPECT_EQ(loader.counters().requests, rootRequests + 1);
-  while (loader.step()) {
-  }
+  EXPECT_NEAR(timedStep(), 2.0, 1e-6);
   EXPECT_TRUE(loader.isResident(b));
+  const double loaded = clock->elapsedMs();
+  EXPECT_FALSE(loader.step());  // nothing more is wanted: no time passes
+  EXPECT_EQ(clock->elapsedMs(), loaded);
 }
 
 TEST(Loader, RequestsInFlightHideTheLatencyBehindTransfers) {
@@ -339,11 +347,10 @@ TEST(Loader, RequestsInFlightHideTheLatencyBehindTransfers) {
   }
   LoaderParams p;
   p.chunkBytes = 48000;  // one chunk a node
-  p.ioMbps = 38.4;       // 48000 bytes in 10 ms: longer than the latency
-  p.ioLatencyMs = 8.0;
   // Emulated latency waited for while loading `nodes`, with `inFlight` requests on the link.
   auto latencyFor = [&](std::size_t inFlight) {
     p.ioRequests = inFlight;
+    p.clock = std::make_shared<ManualLinkClock>();
     Loader loader(src, p);
     EXPECT_TRUE(loader.loadRoots().ok());
     const LoaderCounters before = loader.counters();
@@ -355,13 +362,25 @@ TEST(Loader, RequestsInFlightHideTheLatencyBehindTransfers) {
     EXPECT_EQ(loader.counters().requests - before.requests, 4u);  // as many either way
     return loader.counters().latencyMs - before.latencyMs;
   };
+  p.ioMbps = 38.4;  // 48000 bytes in 10 ms: longer than the latency
+  p.ioLatencyMs = 8.0;
   EXPECT_NEAR(latencyFor(1), 4 * 8.0, 1e-9);  // one at a time: every request waits
   // Four in flight: the three behind the first were requested with it and waited during its
-  // transfer (sleeps are lower bounds, so at least 10 ms passed): only the first one waits.
+  // latency and transfer (18 ms): only the first one waits.
   EXPECT_NEAR(latencyFor(4), 8.0, 1e-9);
+  // A transfer shorter than the latency hides only part of it. Two in flight, 10 ms latency, 4 ms
+  // transfers: nodes[1], requested with nodes[0] at 0 ms, has had 14 ms when its turn comes (no
+  // wait); nodes[2], requested when nodes[1] is chosen (14 ms), has had 4 ms of its 10 (waits 6);
+  // nodes[3], requested when nodes[2] is chosen (18 ms), has had those 6 and a 4 ms transfer.
+  p.ioMbps = 96.0;
+  p.ioLatencyMs = 10.0;
+  EXPECT_NEAR(latencyFor(2), 10.0 + 0.0 + 6.0 + 0.0, 1e-9);
 
   // A request that drops out of the window is cancelled: back in it, it waits all over again.
+  p.ioMbps = 38.4;
+  p.ioLatencyMs = 8.0;
   p.ioRequests = 2;
+  p.clock = std::make_shared<ManualLinkClock>();
   Loader loader(src, p);
   ASSERT_TRUE(loader.loadRoots().ok());
   const double before = loader.counters().latencyMs;
@@ -405,11 +424,18 @@ TEST(Loader, BackgroundThreadLoadsWhatTheSelectorWantsWithoutTheRenderThreadWait
   c.depth = 3;
   MemoryNodeSource src(makeSyntheticCity(c));
   const Skeleton& sk = src.skeleton();
+  // Every read waits on the link, and the link's clock holds the loader thread there until the
+  // test lets it go: each frame below runs while the loader thread is parked mid-load, so a frame
+  // that waited for the loader would never end.
+  auto clock = std::make_shared<GatedLinkClock>();
   LoaderParams p;
   p.chunkBytes = 8192;
+  p.ioMbps = 100.0;
   p.ioLatencyMs = 0.2;
+  p.clock = clock;
   Loader loader(src, p);
-  ASSERT_TRUE(loader.loadRoots().ok());
+  ASSERT_TRUE(loader.loadRoots().ok());  // on the test's thread: the link's waits pass at once
+  clock->close();
   loader.start();
   SelectorParams sp;
   sp.lakhia.vTimeInitial = 1e-8;  // everything fits the budget: residency is the only limit
@@ -418,9 +444,14 @@ TEST(Loader, BackgroundThreadLoadsWhatTheSelectorWantsWithoutTheRenderThreadWait
   View v;
   v.camera.position = {-60, -60, 80};
   v.camera.target = {100, 100, 0};
+  auto idle = [&] { return loader.waitUntilIdle(std::chrono::milliseconds(0)); };
   std::uint32_t firstCoarser = 0, lastCoarser = 0;
-  for (int frame = 0; frame < 400; ++frame) {
-    const auto t0 = std::chrono::steady_clock::now();
+  int framesWhileParked = 0, frame = 0;
+  for (; frame < 20000; ++frame) {
+    const GatedLinkClock::Parked parked = clock->awaitParkedOr(idle);
+    ASSERT_NE(parked, GatedLinkClock::Parked::NotWithinAMinute)
+        << "the loader thread neither waits on the link nor goes idle";
+    // The render thread's frame: take what loaded, select against it, hand on the priorities.
     for (const LoaderEvent& e : loader.drainEvents()) {
       gpu.set(e.node, e.kind == LoaderEvent::Kind::Loaded);
       if (e.kind == LoaderEvent::Kind::Loaded) {
@@ -430,17 +461,17 @@ TEST(Loader, BackgroundThreadLoadsWhatTheSelectorWantsWithoutTheRenderThreadWait
     const Selection s = sel.select(v, gpu);
     loader.setWanted(s.loadPriorities);
     for (std::uint32_t n : s.front) ASSERT_TRUE(gpu.isResident(n));
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    EXPECT_LT(ms, 50.0);  // the frame never waits for the loader
+    if (parked == GatedLinkClock::Parked::OnTheLink) {
+      ++framesWhileParked;
+      clock->release();
+    }
     if (frame == 0) firstCoarser = s.coarserBecauseNotResident;
     lastCoarser = s.coarserBecauseNotResident;
-    if (frame > 5 && lastCoarser == 0) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (frame > 0 && lastCoarser == 0) break;
   }
-  EXPECT_GT(firstCoarser, 0u);
-  EXPECT_EQ(lastCoarser, 0u);
-  EXPECT_TRUE(loader.waitUntilIdle(std::chrono::seconds(5)));
+  EXPECT_GT(firstCoarser, 0u);  // the first frames draw coarser than they want
+  EXPECT_EQ(lastCoarser, 0u) << "after " << frame << " frames";
+  EXPECT_GT(framesWhileParked, 0);
   loader.stop();
   EXPECT_FALSE(loader.running());
 }

@@ -1,6 +1,7 @@
 // CityJSON reader (0.x, 1.x, 2.0; https://www.cityjson.org/specs/): the surfaces of every city
 // object at the chosen level of detail, triangulated by earClip, one Mesh per colour (material
-// diffuseColor, else the semantic palette of CityJsonPalette.h).
+// diffuseColor, else the semantic palette of CityJsonPalette.h): materials of equal colour share
+// one mesh.
 //
 // Versions: 1.1 and 2.0 require "transform" {scale, translate} and integer vertices; 1.0 and
 // 0.x may have float vertices without it. 0.x writes semantics as an array parallel to the
@@ -382,9 +383,16 @@ std::size_t Reader::bucketFor(const json& g, const std::array<std::size_t, 3>& a
     if (idx && idx->is_number_unsigned() && idx->get<std::uint64_t>() < materialColours_.size()) {
       const std::size_t i = std::size_t(idx->get<std::uint64_t>());
       if (materialColours_[i].a > 0.0f) {
-        key = "m" + std::to_string(i);
+        // Keyed by the colour, not the material: hlodr draws a material as its colour alone, and
+        // files that give every surface a material of its own repeating a few colours would
+        // otherwise make a mesh, and a draw call, per surface. The first material names it.
+        const glm::vec4 c = materialColours_[i];
+        char exact[128];  // hexadecimal floats: equal keys for equal colours only
+        std::snprintf(exact, sizeof exact, "m%a,%a,%a,%a", double(c.r), double(c.g), double(c.b),
+                      double(c.a));
+        key = exact;
         name = materialNames_[i];
-        colour = materialColours_[i];
+        colour = c;
       }
     }
   }

@@ -1,6 +1,7 @@
 #include "hlod/runtime/Framing.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 
@@ -39,18 +40,86 @@ glm::dvec3 defaultViewDirection(const UpFrame& f) {
   return orbitDirection(f, glm::radians(zUp ? 235.0 : 30.0), elevation);
 }
 
-Camera frameBounds(const Aabb& bounds, const UpFrame& f, const glm::dvec3& direction, double fovY,
+namespace {
+
+std::array<glm::dvec3, 8> corners(const Aabb& b) {
+  std::array<glm::dvec3, 8> c;
+  for (int i = 0; i < 8; ++i)
+    c[std::size_t(i)] = {i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y,
+                         i & 4 ? b.max.z : b.min.z};
+  return c;
+}
+
+}  // namespace
+
+Camera frameBounds(const Aabb& bounds, const UpFrame& frame, const glm::dvec3& direction,
+                   double fovY,
                    double aspect) {
+  assert(fovY > 0.0 && fovY < 180.0 && aspect > 0.0);
   Camera cam;
-  cam.target = bounds.empty() ? glm::dvec3(0.0) : bounds.centre();
-  const double radius = std::max(0.5 * glm::length(bounds.size()), 1e-6);
-  const double distance = framingDistance(radius, fovY, aspect);
-  cam.position = cam.target + glm::normalize(direction) * distance;
-  cam.up = f.up;
+  cam.up = frame.up;
   cam.fovY = fovY;
   cam.aspect = aspect;
-  cam.nearPlane = std::max(distance - radius, distance * 1e-3) * 0.5;
-  cam.farPlane = (distance + radius) * 2.0;
+  const Aabb box = bounds.empty() ? Aabb{glm::dvec3(0.0), glm::dvec3(0.0)} : bounds;
+  const double size = std::max(glm::length(box.size()), 1e-6);
+  // The image plane's basis depends on the direction alone (Camera's own, degenerate up too).
+  cam.target = glm::dvec3(0.0);
+  cam.position = glm::normalize(direction);
+  const glm::dvec3 f = cam.forward(), r = cam.right(), u = cam.trueUp();
+  const double tanY = std::tan(glm::radians(fovY) * 0.5) * kBoxFramingFill;
+  const double tanX = tanY * aspect;
+  const std::array<glm::dvec3, 8> points = corners(box);
+
+  // The camera at a r + b u + g f sees corner p inside the filled frame when
+  // |p.r - a| <= tanX (p.f - g) and |p.u - b| <= tanY (p.f - g): linear in (a, b, g). Nearest
+  // (largest g) for one axis: the two families of bounds on g, one rising and one falling with
+  // the offset, meet at the offset that centres the projection on that axis.
+  auto nearest = [&](const glm::dvec3& axis, double tanA) {
+    double rising = 1e300, falling = 1e300;
+    for (const glm::dvec3& p : points) {
+      rising = std::min(rising, glm::dot(p, f) - glm::dot(p, axis) / tanA);
+      falling = std::min(falling, glm::dot(p, f) + glm::dot(p, axis) / tanA);
+    }
+    return std::pair{tanA * 0.5 * (falling - rising), 0.5 * (rising + falling)};
+  };
+  auto [a, gX] = nearest(r, tanX);
+  auto [b, gY] = nearest(u, tanY);
+  double nearestDepth = 1e300;
+  for (const glm::dvec3& p : points) nearestDepth = std::min(nearestDepth, glm::dot(p, f));
+  // The axis the box reaches first decides; every corner stays ahead of the camera.
+  const double g = std::min({gX, gY, nearestDepth - 1e-3 * size});
+  // On the other axis (room to spare at g) the offset that centres the projection: the sum of its
+  // extremes falls as the offset grows, so bisection finds it.
+  auto centred = [&](const glm::dvec3& axis) {
+    double lo = 1e300, hi = -1e300;
+    for (const glm::dvec3& p : points) {
+      lo = std::min(lo, glm::dot(p, axis));
+      hi = std::max(hi, glm::dot(p, axis));
+    }
+    for (int i = 0; i < 100; ++i) {
+      const double s = 0.5 * (lo + hi);
+      double most = -1e300, least = 1e300;
+      for (const glm::dvec3& p : points) {
+        const double q = (glm::dot(p, axis) - s) / (glm::dot(p, f) - g);
+        most = std::max(most, q), least = std::min(least, q);
+      }
+      (most + least > 0.0 ? lo : hi) = s;
+    }
+    return 0.5 * (lo + hi);
+  };
+  if (gX > g) a = centred(r);
+  if (gY > g) b = centred(u);
+  cam.position = a * r + b * u + g * f;
+  const double distance = glm::dot(box.centre() - cam.position, f);
+  cam.target = cam.position + f * distance;
+  double nearestCorner = 1e300, farthestCorner = 0.0;
+  for (const glm::dvec3& p : points) {
+    const double depth = glm::dot(p - cam.position, f);
+    nearestCorner = std::min(nearestCorner, depth);
+    farthestCorner = std::max(farthestCorner, depth);
+  }
+  cam.nearPlane = std::max(nearestCorner, distance * 1e-3) * 0.5;
+  cam.farPlane = std::max(farthestCorner, distance) * 2.0;
   return cam;
 }
 

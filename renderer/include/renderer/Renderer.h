@@ -47,6 +47,9 @@ struct PassTiming {
 struct FrameTiming {
   double cpuMs = 0.0;  // wall time of the frame's GL work through glFinish
   double gpuMs = 0.0;  // sum of the passes' GL_TIME_ELAPSED
+  // Whether gpuMs and the passes' times are the GPU's (ContextInfo::gpuTimers); on a software
+  // rasteriser they are not the passes' time, and cpuMs is the frame's only time.
+  bool gpuTimed = false;
   std::vector<PassTiming> passes;
   std::uint64_t triangles = 0;
   std::uint64_t drawCalls = 0;

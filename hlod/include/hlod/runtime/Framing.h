@@ -1,7 +1,9 @@
 #pragma once
 // Framing a model: where a camera stands to see the whole model fill most of the frame, upright.
-// One rule for the orbit path, `hlodr render MODEL`'s default view, the service's first camera
-// and the frame driver's calibration frame.
+// Two rules: a still view (frameBounds: `hlodr render MODEL`'s default view, the service's first
+// camera, the frame driver's calibration frame) frames the model's box as seen from its
+// direction; the orbit path frames the box's bounding sphere, which holds the model seen from
+// any side.
 #include <glm/glm.hpp>
 
 #include "hlod/Mesh.h"
@@ -11,10 +13,13 @@
 
 namespace hlod {
 
-// The share of the frame's smaller side a framed model's bounding sphere spans. The sphere
+// The share of the frame's smaller side an orbited model's bounding sphere spans. The sphere
 // holds the model seen from any side, so an orbit never leaves the frame; it is also loose
 // (an elongated model spans less), hence a small margin only.
 constexpr double kFramingFill = 0.95;
+// The share of the frame's width or height (whichever the model reaches first) a still view's
+// box spans: the box's corners are the model's extremes, so a margin of a few pixels suffices.
+constexpr double kBoxFramingFill = 0.95;
 
 // Distance from the centre of a sphere of `radius` at which a camera looking at that centre,
 // with a vertical field of view of fovY degrees and width / height `aspect`, sees the sphere's
@@ -46,8 +51,11 @@ inline glm::dvec3 defaultViewDirection(UpAxis up) {
   return defaultViewDirection(upFrame(up));
 }
 
-// A camera on `direction` (unit) from the centre of bounds, at framingDistance of the box's
-// bounding sphere, looking at the centre with the frame's up. Near and far hold the sphere.
+// A camera looking along -direction (unit) with the model's up, as near as it can stand with the
+// box's eight corners inside kBoxFramingFill of the frame: they reach it on one axis and the
+// projection is centred on both (perspective moves the target a little off the box's centre).
+// Every corner lies ahead of the camera. A flat city seen from 30 degrees above fills the
+// frame's width, where its bounding sphere left it a small share. Near and far hold the box.
 Camera frameBounds(const Aabb& bounds, const UpFrame& frame, const glm::dvec3& direction,
                    double fovY, double aspect);
 inline Camera frameBounds(const Aabb& bounds, UpAxis up, const glm::dvec3& direction, double fovY,
