@@ -592,8 +592,15 @@ TEST(SelectorParams, AValueOutsideItsRangeIsAnErrorNamingTheConstantAndItsRange)
                                     {"c_fillGain", l.c_fillGain},
                                     {"ssePixels", d.ssePixels},
                                     {"splatPixels", d.splatPixels},
-                                    {"c_splat", d.c_splat}})
+                                    {"c_splat", d.c_splat},
+                                    {"c_occludedLoad", d.c_occludedLoad},
+                                    {"c_occludedKeepFrames", d.c_occludedKeepFrames}})
     EXPECT_TRUE(setSelectorParam(p, name, value).ok()) << name;
+  // A fraction is no switch: it takes any value in its range, and is set.
+  ASSERT_TRUE(setSelectorParams(p, "c_occludedLoad=0.25,c_occludedKeepFrames=12").ok());
+  EXPECT_EQ(p.c_occludedLoad, 0.25);
+  EXPECT_EQ(p.c_occludedKeepFrames, 12.0);
+  EXPECT_FALSE(setSelectorParams(p, "c_occludedLoad=1.5").ok());
 }
 
 TEST(SseSelector, RefinesMoreWithASmallerPixelThreshold) {

@@ -44,8 +44,12 @@ constexpr Named kLakhiaDoubles[] = {
 constexpr Named kOthers[] = {
     {"c_hystRefine", 0.0, 1e6}, {"ssePixels", 0.1, 1000.0},    {"splatPixels", 0.0, 10000.0},
     {"c_splat", 0.0, 1000.0},   {"quadtreeCulling", 0.0, 1.0}, {"splats", 0.0, 1.0},
-    {"progressive", 0.0, 1.0},
+    {"progressive", 0.0, 1.0},  {"c_occludedLoad", 0.0, 1.0}, {"c_occludedKeepFrames", 0.0, 1e6},
 };
+
+bool isSwitch(std::string_view name) {
+  return name == "quadtreeCulling" || name == "splats" || name == "progressive";
+}
 
 const Named* find(std::string_view name) {
   for (const Named& n : kLakhiaDoubles)
@@ -82,7 +86,7 @@ Status setSelectorParam(SelectorParams& params, std::string_view name, double va
     return makeError("unknown parameter '" + std::string(name) +
                      "' (known: " + selectorParamNames() + ")");
   // c_hystRefine is a count; the switches are 0 or 1.
-  const bool whole = !n->member && (name == "c_hystRefine" || n->hi == 1.0);
+  const bool whole = name == "c_hystRefine" || isSwitch(name);
   if (!std::isfinite(value) || value < n->lo || value > n->hi ||
       (whole && value != std::trunc(value)))
     return makeError("parameter " + std::string(name) + ": " +
@@ -102,6 +106,10 @@ Status setSelectorParam(SelectorParams& params, std::string_view name, double va
     params.quadtreeCulling = value == 1.0;
   } else if (name == "splats") {
     params.splats = value == 1.0;
+  } else if (name == "c_occludedLoad") {
+    params.c_occludedLoad = value;
+  } else if (name == "c_occludedKeepFrames") {
+    params.c_occludedKeepFrames = value;
   } else {
     params.progressive = value == 1.0;
   }
