@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <deque>
 #include <memory>
 
+#include "ManualLinkClock.h"
 #include "RuntimeTestScene.h"
 #include "SimulatedRenderer.h"
 #include "hlod/runtime/CameraPath.h"
@@ -21,16 +23,18 @@ namespace {
 
 struct Rig {
   explicit Rig(test::SyntheticCity city = {}, double budgetMs = 33.0,
-               const char* selector = "lakhia")
+               const char* selector = "lakhia", LoaderParams lp = {},
+               std::chrono::milliseconds settleTimeout = std::chrono::milliseconds(60000))
       : source(test::makeSyntheticCity(city)), renderer(source.skeleton().nodes.size()) {
     renderer.setTriangles(source.skeleton());
-    loader = std::make_unique<Loader>(source);
+    loader = std::make_unique<Loader>(source, lp);
     SelectorParams p;
     p.lakhia.c_targetTime = budgetMs;
     FrameDriverOptions o;
     o.width = 640;
     o.height = 360;
     o.loaderThread = false;  // the test steps the loader
+    o.settleTimeout = settleTimeout;
     driver = std::make_unique<FrameDriver>(std::move(*makeSelector(selector, source.skeleton(), p)),
                                            std::move(*makeSelector(selector, source.skeleton(), p)),
                                            *loader, renderer, o);
@@ -423,4 +427,44 @@ TEST(FrameDriver, ASettledFrameDrawsItsResidentPartWhileTheRestLoads) {
   EXPECT_EQ(drawn, fb.size());  // every node once
   EXPECT_EQ(b->stalls, 1u);
   EXPECT_GE(b->wallMs, b->cpuMs);
+}
+
+TEST(FrameDriver, OnTheLoadersClockASettledFrameWaitsOutTheLinkAndGivesUpAtItsTimeout) {
+  // The session's time is the loader's clock: over an emulated link of 20 ms per request the
+  // settled frame's wall time is the link's time, exactly, and no test sleeps for it.
+  LoaderParams lp;
+  lp.ioLatencyMs = 20.0;
+  lp.ioRequests = 1;
+  auto clock = std::make_shared<test::ManualLinkClock>();
+  lp.clock = clock;
+  Rig rig({}, 33.0, "lakhia", lp);
+  ASSERT_TRUE(rig.driver->start().ok());
+  const double before = clock->elapsedMs();
+  const std::uint64_t loadsBefore = rig.loader->counters().loadsFinished;
+  auto r = rig.driver->renderFrame(rig.street(), FrameMode::Settled);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const std::uint64_t loads = rig.loader->counters().loadsFinished - loadsBefore;
+  ASSERT_GT(loads, 0u);
+  EXPECT_EQ(r->stalls, 1u);
+  EXPECT_EQ(r->coarserNotResident, 0u);
+  // Whole requests of 20 ms each (the bytes take no time unthrottled; a read that continues the
+  // last one shares its request), at most one per load.
+  EXPECT_NEAR(clock->elapsedMs() - before, r->wallMs, 1e-6);
+  EXPECT_GE(r->wallMs, 20.0 - 1e-6);
+  EXPECT_LE(r->wallMs, 20.0 * double(loads) + 1e-6);
+  EXPECT_NEAR(std::fmod(r->wallMs + 1e-6, 20.0), 0.0, 1e-5);
+
+  // A link slower than the settle timeout: the frame gives up after one load and is drawn
+  // coarser from what is resident, at once in real time.
+  LoaderParams slow = lp;
+  slow.ioLatencyMs = 5000.0;
+  auto slowClock = std::make_shared<test::ManualLinkClock>();
+  slow.clock = slowClock;
+  Rig late({}, 33.0, "lakhia", slow, std::chrono::milliseconds(1000));
+  ASSERT_TRUE(late.driver->start().ok());
+  auto g = late.driver->renderFrame(late.street(), FrameMode::Settled);
+  ASSERT_TRUE(g.ok()) << g.message();
+  EXPECT_EQ(g->stalls, 1u);
+  EXPECT_GT(g->coarserNotResident, 0u);
+  EXPECT_NEAR(g->wallMs, 5000.0, 1e-6);  // the one load that passed the deadline
 }

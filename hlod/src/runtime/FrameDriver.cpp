@@ -17,8 +17,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+// Durations on the session's clock (the loader's, Loader::clock): a test's clock runs the
+// frame loop without sleeping and its times are exact.
+double msSince(LinkClock& clock, LinkClock::TimePoint start) {
+  return LinkClock::Milliseconds(clock.now() - start).count();
 }
 
 }  // namespace
@@ -217,8 +219,8 @@ Status FrameDriver::probeVTime(const Camera& camera) {
 }
 
 Result<std::optional<DrawReport>> FrameDriver::drawWhileLoading(const View& view,
-                                                                 const OcclusionPlan* plan,
-                                                                 FrameRecord& rec) {
+                                                                const OcclusionPlan* plan,
+                                                                FrameRecord& rec) {
   auto uploadAll = [&]() -> Status {
     drainLoader();
     while (renderer_.pendingUploads() > 0) {
@@ -241,7 +243,7 @@ Result<std::optional<DrawReport>> FrameDriver::drawWhileLoading(const View& view
   if (auto s = renderer_.beginParts(view.camera, lastFront_, lastDraws_, plan); !s)
     return s.error();
   if (auto s = renderer_.drawPart(in); !s) return s.error();
-  const auto deadline = Clock::now() + options_.settleTimeout;
+  const auto deadline = loader_.clock().now() + options_.settleTimeout;
   std::vector<std::uint32_t> waiting;
   while (!out.empty()) {
     if (auto s = uploadAll(); !s) return s.error();
@@ -259,7 +261,8 @@ Result<std::optional<DrawReport>> FrameDriver::drawWhileLoading(const View& view
     waiting.clear();
     for (std::size_t i : out)
       if (!loader_.isResident(lastFront_[i])) waiting.push_back(lastFront_[i]);
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - loader_.clock().now());
     if (waiting.empty() || left.count() <= 0) break;  // held but not uploadable, or too late
     rec.stalls = 1;
     if (!loader_.waitUntilAnyResident(waiting, left)) break;
@@ -306,8 +309,8 @@ void FrameDriver::endOcclusion(const Selection& sel, const DrawSplit& split, Fra
     rec.occlusionQueries = occlusion_.counters().queries;
     double hiddenCost = 0.0;
     for (std::uint32_t n : sel.occluded)
-      hiddenCost += std::max(selector_->skeleton().nodes[n].cost,
-                             selector_->params().lakhia.c_minCost);
+      hiddenCost +=
+          std::max(selector_->skeleton().nodes[n].cost, selector_->params().lakhia.c_minCost);
     occlusionMs_ = split.occlusionMs;
     occlusionAuto_.update(true, selector_->vTime() * sel.frontDraws * hiddenCost,
                           split.occlusionMs);
@@ -320,7 +323,7 @@ void FrameDriver::endOcclusion(const Selection& sel, const DrawSplit& split, Fra
 
 Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMode mode,
                                              const CameraSample* lookahead) {
-  const auto frameStart = Clock::now();
+  const auto frameStart = loader_.clock().now();
   const bool settled = mode == FrameMode::Settled;
   FrameRecord rec;
   double waitMs = 0.0;
@@ -345,12 +348,12 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   // passes are.
   view.spentMs = rec.uploadMs + screenPassMs_ + (culling ? occlusionMs_ : 0.0);
   view.frontDraws = frontDraws();
-  const auto selectStart = Clock::now();
+  const auto selectStart = loader_.clock().now();
   // Settled: select as if everything were resident; that front is then loaded before drawing.
   const AllResident allResident;
   Selection sel = selector_->select(
       view, settled ? static_cast<const Residency&>(allResident) : renderer_.onGpu());
-  rec.selectorMs = msSince(selectStart);
+  rec.selectorMs = msSince(loader_.clock(), selectStart);
   loader_.setWanted(sel.loadPriorities);
   // Wanted and in memory, but not on the GPU (its budget freed them): uploaded again.
   requeue(settled ? std::span<const std::uint32_t>(sel.front) : sel.notResident);
@@ -386,11 +389,12 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
       orderNearToFar(selector_->skeleton(), view.camera.position, lastFront_, lastDraws_);
       OcclusionPlan plan;
       if (culling) plan = occlusion_.plan(lastFront_, sel.occluded);
-      const auto waitStart = Clock::now();
+      const auto waitStart = loader_.clock().now();
       auto parts = drawWhileLoading(view, culling ? &plan : nullptr, rec);
       if (!parts) return parts.error();
       drawnInParts = std::move(*parts);
-      waitMs = std::max(0.0, msSince(waitStart) - (drawnInParts ? drawnInParts->ms : 0.0));
+      waitMs = std::max(
+          0.0, msSince(loader_.clock(), waitStart) - (drawnInParts ? drawnInParts->ms : 0.0));
       if (!drawnInParts) {
         // L_O did not come: drawn coarser from what is on the GPU, as below.
         sel = selector_->select(view, renderer_.onGpu());
@@ -398,7 +402,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
       }
     } else if (!onGpu()) {
       // Settled uploads are unbudgeted and, like the wait, not part of the frame time.
-      const auto waitStart = Clock::now();
+      const auto waitStart = loader_.clock().now();
       const bool loaded = std::all_of(sel.front.begin(), sel.front.end(),
                                       [&](std::uint32_t n) { return loader_.isResident(n); });
       if (!loaded) {
@@ -420,7 +424,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
         sel = selector_->select(view, renderer_.onGpu());
         loader_.setWanted(sel.loadPriorities);
       }
-      waitMs = msSince(waitStart);
+      waitMs = msSince(loader_.clock(), waitStart);
     }
   }
 
@@ -464,7 +468,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   }
   rec.gpuMs = (settled ? 0.0 : rec.uploadMs) + drawn->ms;
   rec.pendingUploads = static_cast<std::uint32_t>(renderer_.pendingUploads());
-  rec.wallMs = msSince(frameStart);
+  rec.wallMs = msSince(loader_.clock(), frameStart);
   rec.cpuMs = rec.wallMs - waitMs;
   if (options_.recentFrames > 0) {
     if (recent_.size() >= options_.recentFrames) recent_.pop_front();

@@ -479,50 +479,67 @@ std::string Loader::lastError() const {
   return lastError_;
 }
 
-bool Loader::waitUntilResident(std::span<const std::uint32_t> nodes,
-                               std::chrono::milliseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  auto all = [&] {
-    return std::all_of(nodes.begin(), nodes.end(), [&](std::uint32_t n) { return isResident(n); });
-  };
+LinkClock& Loader::clock() {
+  return link_->clock();
+}
+
+// Waits until done() holds, the timeout passes on the loader's clock, or (with the thread) the
+// loader is idle; without the thread it steps on the caller's thread meanwhile.
+bool Loader::waitUntil(const std::function<bool()>& done, std::chrono::milliseconds timeout) {
+  LinkClock& c = clock();
+  const auto deadline = c.now() + timeout;
   if (!running()) {
-    while (!all()) {
-      if (std::chrono::steady_clock::now() > deadline || !step()) return all();
+    while (!done()) {
+      if (c.now() > deadline || !step()) return done();
     }
     return true;
   }
   std::unique_lock lock(mutex_);
-  progressCv_.wait_until(lock, deadline, [&] { return all() || idle_; });
-  return all();
+  // The clock's wait returns early when the loader makes progress; then the rest of the time.
+  while (!(done() || idle_)) {
+    const auto left = LinkClock::Milliseconds(deadline - c.now());
+    if (left.count() <= 0.0) break;
+    c.waitFor(lock, progressCv_, left, [&] { return done() || idle_; });
+  }
+  return done();
+}
+
+bool Loader::waitUntilResident(std::span<const std::uint32_t> nodes,
+                               std::chrono::milliseconds timeout) {
+  return waitUntil(
+      [&] {
+        return std::all_of(nodes.begin(), nodes.end(),
+                           [&](std::uint32_t n) { return isResident(n); });
+      },
+      timeout);
 }
 
 bool Loader::waitUntilAnyResident(std::span<const std::uint32_t> nodes,
                                   std::chrono::milliseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  auto any = [&] {
-    return std::any_of(nodes.begin(), nodes.end(), [&](std::uint32_t n) { return isResident(n); });
-  };
-  if (!running()) {
-    while (!any()) {
-      if (std::chrono::steady_clock::now() > deadline || !step()) return any();
-    }
-    return true;
-  }
-  std::unique_lock lock(mutex_);
-  progressCv_.wait_until(lock, deadline, [&] { return any() || idle_; });
-  return any();
+  return waitUntil(
+      [&] {
+        return std::any_of(nodes.begin(), nodes.end(),
+                           [&](std::uint32_t n) { return isResident(n); });
+      },
+      timeout);
 }
 
 bool Loader::waitUntilIdle(std::chrono::milliseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  LinkClock& c = clock();
+  const auto deadline = c.now() + timeout;
   if (!running()) {
     while (step()) {
-      if (std::chrono::steady_clock::now() > deadline) return false;
+      if (c.now() > deadline) return false;
     }
     return true;
   }
   std::unique_lock lock(mutex_);
-  return progressCv_.wait_until(lock, deadline, [&] { return idle_; });
+  while (!idle_) {
+    const auto left = LinkClock::Milliseconds(deadline - c.now());
+    if (left.count() <= 0.0) return false;
+    c.waitFor(lock, progressCv_, left, [&] { return idle_; });
+  }
+  return true;
 }
 
 }  // namespace hlod

@@ -41,6 +41,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -162,6 +163,10 @@ class Loader final : public Residency {
   std::uint32_t currentLoad() const;  // the node being read, kNoNode when none
   std::string lastError() const;      // the last load error, "" when none
 
+  // The loader's time (LoaderParams::clock): the link's, the waits' below and the frame
+  // driver's, so that a test's clock runs a whole session without sleeping.
+  LinkClock& clock();
+
   // Settled mode: waits until all nodes are resident (true) or the timeout passes (false).
   // Only wanted/prefetched nodes get loaded. Without the thread it steps on the caller's thread.
   bool waitUntilResident(std::span<const std::uint32_t> nodes, std::chrono::milliseconds timeout);
@@ -174,6 +179,7 @@ class Loader final : public Residency {
   bool waitUntilIdle(std::chrono::milliseconds timeout);
 
  private:
+  bool waitUntil(const std::function<bool()>& done, std::chrono::milliseconds timeout);
   // Holds or releases the node's shared texture section (SharedTextures), keeping residentBytes,
   // where a section counts once.
   std::uint64_t holdTextureLocked(std::uint32_t node, const std::shared_ptr<const Image>& image);
