@@ -262,49 +262,85 @@ const ShaderProgram* Renderer::program(const VariantKey& key) {
   return p.id() ? &p : nullptr;
 }
 
-FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* const> meshes) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  const GlFunctions& g = gl();
-  FrameTiming timing;
-  g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+void Renderer::fitShadow(const FrameView& view, std::span<const GpuMesh* const> meshes) {
+  // The sun's orthographic view, fitted to the sphere that holds what is drawn (the front),
+  // relative to its centre: the matrices stay small far from the origin.
+  glm::dvec3 centre = view.sceneCentre;
+  double radius = view.sceneRadius;
+  if (!(radius > 0.0)) {
+    centre = glm::dvec3(0.0);
+    std::size_t n = 0;
+    for (const GpuMesh* m : meshes)
+      if (m) centre += m->centre(), ++n;
+    if (n) centre /= static_cast<double>(n);
+    for (const GpuMesh* m : meshes)
+      if (m) radius = std::max(radius, glm::length(m->centre() - centre));
+    radius = std::max(radius * 1.2, 1.0);
+  }
+  const glm::dvec3 sun = glm::normalize(options_.effects.sun->direction);
+  shadowCentre_ = centre;
+  shadowViewProjection_ =
+      orthoZeroToOne(radius, radius, 3.0 * radius) * lookAt(sun * 2.0 * radius, {}, options_.up);
+}
 
-  if (has(Pass::Shadow)) {
-    // The sun's orthographic view, fitted to the sphere that holds what is drawn (the front),
-    // relative to its centre: the matrices stay small far from the origin.
-    glm::dvec3 centre = view.sceneCentre;
-    double radius = view.sceneRadius;
-    if (!(radius > 0.0)) {
-      centre = glm::dvec3(0.0);
-      std::size_t n = 0;
-      for (const GpuMesh* m : meshes)
-        if (m) centre += m->centre(), ++n;
-      if (n) centre /= static_cast<double>(n);
-      for (const GpuMesh* m : meshes)
-        if (m) radius = std::max(radius, glm::length(m->centre() - centre));
-      radius = std::max(radius * 1.2, 1.0);
-    }
-    const glm::dvec3 sun = glm::normalize(options_.effects.sun->direction);
-    shadowCentre_ = centre;
-    shadowViewProjection_ =
-        orthoZeroToOne(radius, radius, 3.0 * radius) * lookAt(sun * 2.0 * radius, {}, options_.up);
-  }
-  for (std::size_t i = 0; i < passes_.size(); ++i) {
-    g.BeginQuery(GL_TIME_ELAPSED, queries_[i].id());
-    runPass(passes_[i], view, meshes, timing);
-    g.EndQuery(GL_TIME_ELAPSED);
-  }
+void Renderer::finishFrame(std::chrono::steady_clock::time_point start, FrameTiming& timing) {
+  const GlFunctions& g = gl();
   g.BindVertexArray(0);
   g.Disable(GL_CULL_FACE);
   g.Disable(GL_BLEND);
   g.Finish();
-  timing.cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  timing.cpuMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   for (std::size_t i = 0; i < passes_.size(); ++i) {
     GLuint64 ns = 0;
     g.GetQueryObjectui64v(queries_[i].id(), GL_QUERY_RESULT, &ns);
     timing.passes.push_back({passName(passes_[i]), static_cast<double>(ns) * 1e-6});
     timing.gpuMs += timing.passes.back().gpuMs;
   }
+}
+
+FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* const> meshes) {
+  const auto start = std::chrono::steady_clock::now();
+  const GlFunctions& g = gl();
+  FrameTiming timing;
+  g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  if (has(Pass::Shadow)) fitShadow(view, meshes);
+  for (std::size_t i = 0; i < passes_.size(); ++i) {
+    g.BeginQuery(GL_TIME_ELAPSED, queries_[i].id());
+    runPass(passes_[i], view, meshes, timing);
+    g.EndQuery(GL_TIME_ELAPSED);
+  }
+  finishFrame(start, timing);
+  return timing;
+}
+
+FrameTiming Renderer::drawFrameInParts(const FrameView& view, std::size_t parts,
+                                       const FramePart& part) {
+  assert((!has(Pass::Shadow) || view.sceneRadius > 0.0) && "the shadow fit needs the scene");
+  const auto start = std::chrono::steady_clock::now();
+  const GlFunctions& g = gl();
+  FrameTiming timing;
+  g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  if (has(Pass::Shadow)) fitShadow(view, {});
+  for (std::size_t i = 0; i < passes_.size(); ++i) {
+    g.BeginQuery(GL_TIME_ELAPSED, queries_[i].id());
+    const Pass pass = passes_[i];
+    if (pass == Pass::Shadow || pass == Pass::Geometry) {
+      // Every part into the same targets, cleared before the first (or once without parts).
+      for (std::size_t k = 0; k < std::max<std::size_t>(parts, 1); ++k) {
+        const std::vector<const GpuMesh*> meshes =
+            parts > 0 ? part(k) : std::vector<const GpuMesh*>{};
+        if (pass == Pass::Shadow)
+          shadowPass(meshes, k == 0);
+        else
+          geometryPass(view, meshes, timing, k == 0);
+      }
+    } else {
+      runPass(pass, view, {}, timing);
+    }
+    g.EndQuery(GL_TIME_ELAPSED);
+  }
+  finishFrame(start, timing);
   return timing;
 }
 
@@ -312,10 +348,10 @@ void Renderer::runPass(Pass pass, const FrameView& view, std::span<const GpuMesh
                        FrameTiming& timing) {
   switch (pass) {
     case Pass::Shadow:
-      shadowPass(meshes);
+      shadowPass(meshes, true);
       break;
     case Pass::Geometry:
-      geometryPass(view, meshes, timing);
+      geometryPass(view, meshes, timing, true);
       break;
     case Pass::Sky:
       skyPass(view);
@@ -335,7 +371,7 @@ void Renderer::runPass(Pass pass, const FrameView& view, std::span<const GpuMesh
   }
 }
 
-void Renderer::shadowPass(std::span<const GpuMesh* const> meshes) {
+void Renderer::shadowPass(std::span<const GpuMesh* const> meshes, bool clear) {
   const GlFunctions& g = gl();
   const int res = options_.effects.shadows->resolution;
   g.BindFramebuffer(GL_FRAMEBUFFER, shadowFramebuffer_.id());
@@ -344,8 +380,10 @@ void Renderer::shadowPass(std::span<const GpuMesh* const> meshes) {
   g.DepthFunc(GL_LESS);
   g.DepthMask(GL_TRUE);
   g.Disable(GL_CULL_FACE);
-  g.ClearDepth(1.0);
-  g.Clear(GL_DEPTH_BUFFER_BIT);
+  if (clear) {
+    g.ClearDepth(1.0);
+    g.Clear(GL_DEPTH_BUFFER_BIT);
+  }
   const ShaderProgram* p = program({ProgramKind::ShadowDepth, 0});
   assert(p && "compiled in init()");
   g.UseProgram(p->id());
@@ -358,7 +396,7 @@ void Renderer::shadowPass(std::span<const GpuMesh* const> meshes) {
 }
 
 void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* const> meshes,
-                            FrameTiming& timing) {
+                            FrameTiming& timing, bool clear) {
   const GlFunctions& g = gl();
   const Effects& e = options_.effects;
   g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
@@ -368,9 +406,11 @@ void Renderer::geometryPass(const FrameView& view, std::span<const GpuMesh* cons
   g.DepthMask(GL_TRUE);
   g.Disable(GL_CULL_FACE);
   const glm::vec3 bg = e.background.colour;
-  g.ClearColor(bg.r, bg.g, bg.b, 1.0f);
-  g.ClearDepth(0.0);
-  g.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  if (clear) {
+    g.ClearColor(bg.r, bg.g, bg.b, 1.0f);
+    g.ClearDepth(0.0);
+    g.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
 
   const glm::mat4 projection(view.projection);
   const glm::vec3 up(glm::normalize(options_.up));

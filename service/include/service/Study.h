@@ -33,6 +33,9 @@ struct StudyOptions {
   bool realtime = false;
   std::size_t stripFrames = 3;  // frames shown in strips at every Lakhia budget
   std::uint64_t memoryCapBytes = 0;
+  // The full-detail reference holds at most this many decoded bytes (0: no cap): a front larger
+  // than that is drawn in batches, loading and freeing as it goes (BatchedReference).
+  std::uint64_t referenceCapBytes = std::uint64_t(1) << 30;
   // Selector constants of every studied run (`--params`: splats, progressive, c_aim ...); the
   // reference draws full detail with the defaults.
   hlod::SelectorParams selectorParams;

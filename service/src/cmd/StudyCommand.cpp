@@ -31,6 +31,9 @@ const char* const kStudyUsage =
     "  --mode M            settled (default), realtime or both\n"
     "  --strips N          frames shown in strips at every Lakhia budget (default 3)\n"
     "  --memory-mb N       loader memory cap per session (default: none)\n"
+    "  --reference-mb N    memory the full-detail reference holds at most (default 1024; 0:\n"
+    "                      none): a larger front is drawn in batches, loading and freeing as\n"
+    "                      it goes, so a store of any size is studied within it\n"
     "  --params N=V,...    selector constants of the studied runs, as for `hlodr render`\n"
     "                      (splats=1, progressive=0 ...); the reference uses the defaults\n"
     "  --splats on|off     as `--params splats=1|0`\n"
@@ -62,10 +65,10 @@ hlod::Result<std::vector<double>> numberList(const std::string& s, double lo, do
 }  // namespace
 
 int runStudy(const Argv& argv) {
-  auto args =
-      Args::parse(argv, {"quiet", "unlit", "no-textures", "fog"},
-                  {"output", "path", "kind", "budgets", "selectors", "sse-px", "size", "frames",
-                   "fps", "mode", "strips", "memory-mb", "scene", "params", "splats"});
+  auto args = Args::parse(
+      argv, {"quiet", "unlit", "no-textures", "fog"},
+      {"output", "path", "kind", "budgets", "selectors", "sse-px", "size", "frames", "fps", "mode",
+       "strips", "memory-mb", "reference-mb", "scene", "params", "splats"});
   if (!args) return commandError("study", args.message() + "\n" + kStudyUsage, 2);
   if (args->positionals().size() != 1)
     return commandError(
@@ -97,14 +100,17 @@ int runStudy(const Argv& argv) {
   auto fps = args->number("fps", 30.0, 1.0, 240.0);
   auto strips = args->integer("strips", 3, 0, 20);
   auto memory = args->number("memory-mb", 0.0, 0.0, 1e7);
+  auto referenceMemory = args->number("reference-mb", 1024.0, 0.0, 1e7);
   if (!frames) return commandError("study", frames.message(), 2);
   if (!fps) return commandError("study", fps.message(), 2);
   if (!strips) return commandError("study", strips.message(), 2);
   if (!memory) return commandError("study", memory.message(), 2);
+  if (!referenceMemory) return commandError("study", referenceMemory.message(), 2);
   o.frames = std::size_t(*frames);
   o.fps = *fps;
   o.stripFrames = std::size_t(*strips);
   o.memoryCapBytes = std::uint64_t(*memory * 1048576.0);
+  o.referenceCapBytes = std::uint64_t(*referenceMemory * 1048576.0);
   if (auto p = hlod::setSelectorParams(o.selectorParams, args->get("params", "")); !p)
     return commandError("study", "--params: " + p.message(), 2);
   auto splats = args->onOff("splats", o.selectorParams.splats);
