@@ -9,7 +9,7 @@
 #include "builder/InOrderPool.h"
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/City.h"
-#include "hlod/city/GeoReference.h"
+#include "hlod/geodesy/GeoReference.h"
 
 namespace hlod {
 

@@ -10,7 +10,7 @@
 
 #include "cmd/Commands.h"
 #include "hlod/builder/HlodBuilder.h"
-#include "hlod/city/GeoReference.h"
+#include "hlod/geodesy/GeoReference.h"
 #include "hlod/import/Import.h"
 #include "hlod/store/NodeStore.h"
 #include "service/Args.h"
