@@ -5,6 +5,7 @@
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 #include "builder/SimplifierImpl.h"
@@ -189,6 +190,53 @@ glm::dvec2 nearestWeights(const metrics::Triangle& t, const glm::dvec3& p) {
   return {u, v};
 }
 
+// What the plan chart's texels see from above: per texel centre, the highest child surface that
+// faces up, found by drawing the children's triangles top-down into the chart (an orthographic
+// render with a height buffer) instead of casting a ray per texel.
+struct SeenFromAbove {
+  double height = -std::numeric_limits<double>::infinity();
+  std::uint32_t triangle = kNone;  // into the children's triangle list
+  double u = 0.0, v = 0.0;         // barycentric weights of its second and third corners
+};
+
+std::vector<SeenFromAbove> drawFromAbove(const Chart& chart, double texel,
+                                         const std::vector<metrics::Triangle>& triangles,
+                                         const glm::dvec3& up) {
+  std::vector<SeenFromAbove> seen(std::size_t(chart.width) * chart.height);
+  for (std::uint32_t i = 0; i < triangles.size(); ++i) {
+    const metrics::Triangle& tri = triangles[i];
+    if (!(glm::dot(glm::cross(tri[1] - tri[0], tri[2] - tri[0]), up) > 0.0)) continue;
+    glm::dvec2 st[3];
+    double h[3];
+    for (int k = 0; k < 3; ++k) {
+      st[k] = {kGutter + (glm::dot(tri[k], chart.axisU) - chart.minU) / texel,
+               kGutter + (glm::dot(tri[k], chart.axisV) - chart.minV) / texel};
+      h[k] = glm::dot(tri[k], up);
+    }
+    const double area =
+        (st[1].x - st[0].x) * (st[2].y - st[0].y) - (st[2].x - st[0].x) * (st[1].y - st[0].y);
+    if (!(std::abs(area) > 1e-12)) continue;
+    const int x0 = std::max(0, int(std::floor(std::min({st[0].x, st[1].x, st[2].x}))));
+    const int x1 = std::min(chart.width - 1, int(std::ceil(std::max({st[0].x, st[1].x, st[2].x}))));
+    const int y0 = std::max(0, int(std::floor(std::min({st[0].y, st[1].y, st[2].y}))));
+    const int y1 =
+        std::min(chart.height - 1, int(std::ceil(std::max({st[0].y, st[1].y, st[2].y}))));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const double cx = x + 0.5, cy = y + 0.5;
+        const double w1 =
+            ((cx - st[0].x) * (st[2].y - st[0].y) - (st[2].x - st[0].x) * (cy - st[0].y)) / area;
+        const double w2 =
+            ((st[1].x - st[0].x) * (cy - st[0].y) - (cx - st[0].x) * (st[1].y - st[0].y)) / area;
+        if (w1 < 0.0 || w2 < 0.0 || w1 + w2 > 1.0) continue;
+        SeenFromAbove& s = seen[std::size_t(y) * chart.width + x];
+        const double height = (1.0 - w1 - w2) * h[0] + w1 * h[1] + w2 * h[2];
+        if (height > s.height) s = {height, i, w1, w2};
+      }
+  }
+  return seen;
+}
+
 }  // namespace
 
 CellAtlasStats bakeCellAtlas(Mesh& mesh, std::span<const LocalMesh> children,
@@ -271,6 +319,8 @@ CellAtlasStats bakeCellAtlas(Mesh& mesh, std::span<const LocalMesh> children,
   mesh.texCoords.assign(mesh.positions.size(), glm::vec2(0.0f));
   for (const Chart& chart : charts) {
     std::size_t filled = 0;
+    const std::vector<SeenFromAbove> above =
+        chart.plan ? drawFromAbove(chart, texel, corners, up) : std::vector<SeenFromAbove>{};
     for (std::uint32_t t : chart.triangles) {
       glm::dvec2 st[3];
       glm::dvec3 p[3];
@@ -306,8 +356,16 @@ CellAtlasStats bakeCellAtlas(Mesh& mesh, std::span<const LocalMesh> children,
           const glm::dvec3 at = w0 * p[0] + w1 * p[1] + w2 * p[2];
           glm::vec4 colour;
           if (chart.plan) {
-            const glm::dvec3 from = at + (planTop - glm::dot(at, up)) * up;
-            colour = colourAt(from, -up, planDepth, at);
+            assert(x >= chart.x && x - chart.x < chart.width && y >= chart.y &&
+                   y - chart.y < chart.height);
+            const SeenFromAbove& a = above[std::size_t(y - chart.y) * chart.width + (x - chart.x)];
+            if (a.triangle != kNone) {
+              const auto [child, ct] = owner[a.triangle];
+              colour = sample(children[child], ct, a.u, a.v);
+            } else {
+              const glm::dvec3 from = at + (planTop - glm::dot(at, up)) * up;
+              colour = colourAt(from, -up, planDepth, at);
+            }
           } else {
             colour = colourAt(at + o.castDepth * n, -n, 3.0 * o.castDepth, at);
           }
