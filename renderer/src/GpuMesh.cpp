@@ -12,7 +12,8 @@ hlod::Result<GpuMesh> GpuMesh::upload(const GlFunctions& gl, const hlod::LocalMe
   for (const auto i : mesh.indices)
     if (i >= n) return hlod::makeError("mesh index out of range");
   const bool hasUv = mesh.texCoords.size() == n;
-  const bool textured = hasUv && mesh.texture && !mesh.texture->empty();
+  // A texture given stands for the mesh's own (which a load that shares it leaves out).
+  const bool textured = hasUv && ((mesh.texture && !mesh.texture->empty()) || texture);
 
   // Interleaved: position (3f), normal (3f), texCoord (2f) = 32 bytes a vertex.
   std::vector<float> interleaved(n * 8);

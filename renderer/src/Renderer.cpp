@@ -281,8 +281,7 @@ const ShaderProgram* Renderer::program(const VariantKey& key) {
 
 FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* const> meshes,
                                 const OcclusionDraw* occlusion) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
+  const auto start = std::chrono::steady_clock::now();
   const GlFunctions& g = gl();
   FrameTiming timing;
   timing.gpuTimed = context_.info().gpuTimers;
@@ -292,26 +291,7 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
   prepareOcclusion(occlusion);
   if (!occlusion_) occlusion = nullptr;
 
-  if (has(Pass::Shadow)) {
-    // The sun's orthographic view, fitted to the sphere that holds what is drawn (the front),
-    // relative to its centre: the matrices stay small far from the origin.
-    glm::dvec3 centre = view.sceneCentre;
-    double radius = view.sceneRadius;
-    if (!(radius > 0.0)) {
-      centre = glm::dvec3(0.0);
-      std::size_t n = 0;
-      for (const GpuMesh* m : meshes)
-        if (m) centre += m->centre(), ++n;
-      if (n) centre /= static_cast<double>(n);
-      for (const GpuMesh* m : meshes)
-        if (m) radius = std::max(radius, glm::length(m->centre() - centre));
-      radius = std::max(radius * 1.2, 1.0);
-    }
-    const glm::dvec3 sun = glm::normalize(options_.effects.sun->direction);
-    shadowCentre_ = centre;
-    shadowViewProjection_ =
-        orthoZeroToOne(radius, radius, 3.0 * radius) * lookAt(sun * 2.0 * radius, {}, options_.up);
-  }
+  if (has(Pass::Shadow)) fitShadow(view, meshes);
   for (std::size_t i = 0; i < passes_.size(); ++i) {
     g.BeginQuery(GL_TIME_ELAPSED, queries_[i].id());
     runPass(passes_[i], view, meshes, timing, occlusion);
@@ -330,11 +310,74 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
     g.Viewport(0, 0, options_.width, options_.height);
     occlusion_->drawTinted(view, occlusion->tint, glm::vec4(1.0f, 0.85f, 0.1f, 0.3f));
   }
+  finishFrame(start, timing);
+  return timing;
+}
+
+FrameTiming Renderer::drawFrameInParts(const FrameView& view, std::size_t parts,
+                                       const FramePart& part) {
+  assert((!has(Pass::Shadow) || view.sceneRadius > 0.0) && "the shadow fit needs the scene");
+  const auto start = std::chrono::steady_clock::now();
+  const GlFunctions& g = gl();
+  FrameTiming timing;
+  timing.gpuTimed = context_.info().gpuTimers;
+  g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  queriedMeshes_.clear();
+  occlusionPass_ = false;
+  if (has(Pass::Shadow)) fitShadow(view, {});
+  for (std::size_t i = 0; i < passes_.size(); ++i) {
+    g.BeginQuery(GL_TIME_ELAPSED, queries_[i].id());
+    const Pass pass = passes_[i];
+    if (pass == Pass::Shadow || pass == Pass::Geometry) {
+      // Every part into the same targets, cleared before the first (or once without parts).
+      for (std::size_t k = 0; k < std::max<std::size_t>(parts, 1); ++k) {
+        const std::vector<const GpuMesh*> meshes =
+            parts > 0 ? part(k) : std::vector<const GpuMesh*>{};
+        if (pass == Pass::Shadow) {
+          shadowPass(meshes, {}, k == 0);
+        } else {
+          if (k == 0) clearGeometry();
+          drawMeshes(view, meshes, timing, {}, 0);
+        }
+      }
+    } else {
+      runPass(pass, view, {}, timing, nullptr);
+    }
+    g.EndQuery(GL_TIME_ELAPSED);
+  }
+  finishFrame(start, timing);
+  return timing;
+}
+
+void Renderer::fitShadow(const FrameView& view, std::span<const GpuMesh* const> meshes) {
+  // The sun's orthographic view, fitted to the sphere that holds what is drawn (the front),
+  // relative to its centre: the matrices stay small far from the origin.
+  glm::dvec3 centre = view.sceneCentre;
+  double radius = view.sceneRadius;
+  if (!(radius > 0.0)) {
+    centre = glm::dvec3(0.0);
+    std::size_t n = 0;
+    for (const GpuMesh* m : meshes)
+      if (m) centre += m->centre(), ++n;
+    if (n) centre /= static_cast<double>(n);
+    for (const GpuMesh* m : meshes)
+      if (m) radius = std::max(radius, glm::length(m->centre() - centre));
+    radius = std::max(radius * 1.2, 1.0);
+  }
+  const glm::dvec3 sun = glm::normalize(options_.effects.sun->direction);
+  shadowCentre_ = centre;
+  shadowViewProjection_ =
+      orthoZeroToOne(radius, radius, 3.0 * radius) * lookAt(sun * 2.0 * radius, {}, options_.up);
+}
+
+void Renderer::finishFrame(std::chrono::steady_clock::time_point start, FrameTiming& timing) {
+  const GlFunctions& g = gl();
   g.BindVertexArray(0);
   g.Disable(GL_CULL_FACE);
   g.Disable(GL_BLEND);
   g.Finish();
-  timing.cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  timing.cpuMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   for (std::size_t i = 0; i < passes_.size(); ++i) {
     GLuint64 ns = 0;
     g.GetQueryObjectui64v(queries_[i].id(), GL_QUERY_RESULT, &ns);
@@ -347,7 +390,6 @@ FrameTiming Renderer::drawFrame(const FrameView& view, std::span<const GpuMesh* 
     timing.passes.push_back({"occlusion", static_cast<double>(ns) * 1e-6});
     timing.gpuMs += timing.passes.back().gpuMs;
   }
-  return timing;
 }
 
 void Renderer::beginParts(const FrameView& view, const OcclusionDraw* occlusion) {
@@ -483,7 +525,7 @@ void Renderer::runPass(Pass pass, const FrameView& view, std::span<const GpuMesh
 }
 
 void Renderer::shadowPass(std::span<const GpuMesh* const> meshes,
-                          std::span<const GpuMesh* const> moreCasters) {
+                          std::span<const GpuMesh* const> moreCasters, bool clear) {
   const GlFunctions& g = gl();
   const int res = options_.effects.shadows->resolution;
   g.BindFramebuffer(GL_FRAMEBUFFER, shadowFramebuffer_.id());
@@ -492,8 +534,10 @@ void Renderer::shadowPass(std::span<const GpuMesh* const> meshes,
   g.DepthFunc(GL_LESS);
   g.DepthMask(GL_TRUE);
   g.Disable(GL_CULL_FACE);
-  g.ClearDepth(1.0);
-  g.Clear(GL_DEPTH_BUFFER_BIT);
+  if (clear) {
+    g.ClearDepth(1.0);
+    g.Clear(GL_DEPTH_BUFFER_BIT);
+  }
   const ShaderProgram* p = program({ProgramKind::ShadowDepth, 0});
   assert(p && "compiled in init()");
   g.UseProgram(p->id());

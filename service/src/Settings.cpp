@@ -144,6 +144,10 @@ std::vector<Setting> makeTable() {
           "study, POST /api/studies"),
       row("study.ssePx", "sse-px", "ssePx", K::NumberList, 0.1, 1000, "1,2,4,8,16,32", "LIST",
           "SSE thresholds in pixels, a run of sse at each", "study, POST /api/studies"),
+      row("study.referenceMb", "reference-mb", "", K::Number, 0, 1e7, "1024", "MB",
+          "memory the full-detail reference holds at most (0: none): a larger front is drawn in "
+          "batches, loading and freeing as it goes",
+          "study"),
       row("study.selectors", "selectors", "selectors", K::ChoiceList, 0, 0, "lakhia,sse,fs", "LIST",
           "the selectors studied", "study, POST /api/studies", {"lakhia", "sse", "fs"}),
       row("study.size", "size", "", K::Size, 16, 8192, "640x360", "WxH", "frame size in pixels",

@@ -1,6 +1,7 @@
 // Session on a real (software) GL context: a tiny node store built in the test from two
 // procedural city blocks, an orbit path, settled and realtime runs, and the CLI end to end.
 #include "RunHlodr.h"
+#include "service/BatchedReference.h"
 #include "service/Session.h"
 
 #include <sys/wait.h>
@@ -140,6 +141,57 @@ TEST_F(SessionTest, SettledRunWritesOneRecordAndOnePngPerFrameWithNoCoarserNodes
   EXPECT_TRUE(fs::exists(out / "stats.csv"));
   for (const char* svg : {"levels.svg", "toggles.svg", "frametime.svg"})
     EXPECT_GT(fs::file_size(out / svg), 100u) << svg;
+}
+
+// The study's reference within a memory cap: a cap smaller than any node draws the front one
+// node a batch, loading and freeing as it goes, and gives the picture of the `full` session that
+// holds everything; no cap draws it in one batch.
+TEST_F(SessionTest, TheBatchedReferenceDrawsTheFullFrontWithinItsCap) {
+  auto options = smallOptions();
+  options.selector = "full";
+  auto session = service::Session::open(tinyStore(), options);
+  ASSERT_TRUE(session.ok()) << session.message();
+  const hlod::CameraSample sample = path->sample(0.5, 160.0 / 90.0);
+  auto full = (*session)->renderFrame(sample, hlod::FrameMode::Settled);
+  ASSERT_TRUE(full.ok()) << full.message();
+  const hlod::Image want = (*session)->readback();
+
+  auto opened = hlod::NodeStore::open(tinyStore());
+  ASSERT_TRUE(opened.ok()) << opened.message();
+  std::shared_ptr<const hlod::NodeSource> source(std::move(*opened));
+  renderer::RenderOptions ro;
+  ro.width = options.width;
+  ro.height = options.height;
+  std::uint64_t smallest = ~std::uint64_t(0), largest = 0;
+  for (const auto& n : skeleton.nodes) {
+    smallest = std::min(smallest, n.memoryBytes - n.textureBytes);
+    largest = std::max(largest, n.memoryBytes);
+  }
+  for (const std::uint64_t cap : {std::uint64_t(0), smallest / 2}) {
+    auto ref = service::BatchedReference::create(source, ro, cap, (*session)->context());
+    ASSERT_TRUE(ref.ok()) << ref.message();
+    for (int repeat = 0; repeat < 2; ++repeat) {
+      auto frame = (*ref)->render(sample);
+      ASSERT_TRUE(frame.ok()) << frame.message();
+      EXPECT_EQ(frame->triangles, full->triangles) << "cap " << cap;
+      EXPECT_EQ(frame->nodes, (*session)->driver().lastFront().size()) << "cap " << cap;
+      if (cap == 0) {
+        EXPECT_EQ(frame->batches, 1u);
+      } else {
+        // One node a batch, and only the last stays from one frame to the next.
+        EXPECT_EQ(frame->batches, frame->nodes);
+        EXPECT_EQ(frame->loads, repeat == 0 ? frame->nodes : frame->nodes - 1);
+        EXPECT_LE((*ref)->peakBytes(), largest);
+      }
+      const hlod::Image got = (*ref)->readback();
+      ASSERT_EQ(got.pixels.size(), want.pixels.size());
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < got.pixels.size(); i += 4)
+        differ += !std::equal(&got.pixels[i], &got.pixels[i] + 4, &want.pixels[i]);
+      // Batches change the drawing order, which only coplanar ties can tell.
+      EXPECT_LE(differ, want.pixels.size() / 4 / 1000) << "cap " << cap;
+    }
+  }
 }
 
 TEST_F(SessionTest, RealtimeRunNeverStallsAndKeepsResidentBytesUnderTheCap) {

@@ -335,6 +335,85 @@ TEST(CameraPathGenerators, WalkFlyFindsAStreetWhereBlocksMeetAtItsCentreLine) {
   EXPECT_NEAR(path->sample(0.0).camera.position.x, 80.0, 1e-9);
 }
 
+// A store with cell nodes: the one root is the top cell, whose box holds its underlay far below
+// the streets (1% of the city's size: 216 m under the 100 M city). The walk and the drive find
+// the street from the blocks.
+TEST(CameraPathGenerators, TheWalkAndTheDriveStayAtEyeHeightOnAStoreWithCells) {
+  test::SyntheticCity c;
+  c.blocksX = c.blocksY = 6;
+  c.depth = 1;
+  Skeleton sk = test::makeSyntheticCity(c);
+  NodeInfo top;
+  top.block = kCellBlock;
+  for (std::uint32_t r : sk.roots) top.bounds.extend(sk.nodes[r].bounds);
+  top.bounds.min.z -= 200.0;  // the underlay
+  top.centre = top.bounds.centre();
+  for (std::uint32_t r : sk.roots) sk.nodes[r].parent = std::uint32_t(sk.nodes.size());
+  sk.nodes.push_back(top);
+  sk.roots = {std::uint32_t(sk.nodes.size() - 1)};
+  ASSERT_TRUE(sk.hasCells());
+  auto walk = makeWalkFlyPath(sk);
+  ASSERT_TRUE(walk.ok()) << walk.message();
+  for (double t = 0.0; t <= 15.0; t += 0.25)
+    EXPECT_NEAR(walk->sample(t).camera.position.z, 1.7, 1e-9) << "t=" << t;
+  auto drive = makeDrivePath(sk);
+  ASSERT_TRUE(drive.ok()) << drive.message();
+  for (const CameraSample& s : drive->sampleAt(10.0))
+    EXPECT_NEAR(s.camera.position.z, 1.5, 1e-6) << "t=" << s.time;
+}
+
+// A city 30 km from the origin of its east-north-up frame (its blocks anchored there, moved into
+// the city's frame through the curved earth): its ground drops by d^2 / 2R from the origin, 71 m
+// there and 4.5 m more across this 670 m city, and each block's box tilts with it. The store's
+// box bottom, its far corner, lies 2.3 m below the street the walk takes through the middle; the
+// blocks beside the walk tell its ground, low by at most the tilt across one block.
+TEST(CameraPathGenerators, TheWalkFollowsTheGroundOfACityFarFromItsOrigin) {
+  constexpr double kEarth = 6371000.0;
+  const glm::dvec2 origin(-21213.0, -21213.0);  // 30 km to the south-west
+  const auto groundAt = [&](double x, double y) {
+    const glm::dvec2 d = glm::dvec2(x, y) - origin;
+    return -glm::dot(d, d) / (2.0 * kEarth);
+  };
+  test::SyntheticCity c;
+  c.blocksX = c.blocksY = 6;
+  c.blockSize = 100.0;
+  c.depth = 0;
+  Skeleton sk = test::makeSyntheticCity(c);
+  Aabb city;
+  for (std::uint32_t r : sk.roots) {
+    Aabb& b = sk.nodes[r].bounds;
+    double lo = 1e300, hi = -1e300;
+    for (double x : {b.min.x, b.max.x})
+      for (double y : {b.min.y, b.max.y}) {
+        lo = std::min(lo, groundAt(x, y));
+        hi = std::max(hi, groundAt(x, y));
+      }
+    b.min.z = lo;
+    b.max.z = hi + c.height;
+    city.extend(b);
+  }
+  auto walk = makeWalkFlyPath(sk);
+  ASSERT_TRUE(walk.ok()) << walk.message();
+  for (double t = 0.0; t <= 15.0; t += 0.25) {
+    const glm::dvec3 p = walk->sample(t).camera.position;
+    const double overGround = p.z - groundAt(p.x, p.y);
+    // Tilt across a block: 100 m x 30 km / R on each axis, 0.67 m in all.
+    EXPECT_GT(overGround, 1.7 - 0.7) << "t=" << t;
+    EXPECT_LT(overGround, 1.7 + 0.05) << "t=" << t;
+  }
+  // What the store's box bottom would have given at the middle of the walk: under the street.
+  const glm::dvec3 mid = walk->sample(10.0).camera.position;
+  EXPECT_LT(city.min.z + 1.7 - groundAt(mid.x, mid.y), 0.0);
+  auto drive = makeDrivePath(sk);
+  ASSERT_TRUE(drive.ok()) << drive.message();
+  for (const CameraSample& s : drive->sampleAt(10.0)) {
+    const double overGround =
+        s.camera.position.z - groundAt(s.camera.position.x, s.camera.position.y);
+    EXPECT_GT(overGround, 1.5 - 0.7) << "t=" << s.time;
+    EXPECT_LT(overGround, 1.5 + 0.05) << "t=" << s.time;
+  }
+}
+
 TEST(CameraPathGenerators, DriveFollowsStreetsAtCarSpeed) {
   test::SyntheticCity c;
   c.blocksX = c.blocksY = 6;

@@ -121,3 +121,78 @@ TEST(TriangleBvh, OneTriangleOrManyAtOnePointAreTrees) {
 
 }  // namespace
 }  // namespace hlod::metrics
+
+namespace hlod::metrics {
+namespace {
+
+// Möller-Trumbore against every triangle (the same arithmetic), the nearest t: what firstHit
+// must find.
+TriangleBvh::Hit bruteHit(const std::vector<Triangle>& tris, const glm::dvec3& o,
+                          const glm::dvec3& d, double tMax, bool frontOnly) {
+  TriangleBvh::Hit best;
+  double bestT = tMax;
+  for (std::uint32_t i = 0; i < tris.size(); ++i) {
+    const Triangle& tri = tris[i];
+    const glm::dvec3 e1 = tri[1] - tri[0], e2 = tri[2] - tri[0];
+    const glm::dvec3 n = glm::cross(e1, e2);
+    if (glm::dot(n, n) <= 1e-24 * glm::dot(e1, e1) * glm::dot(e2, e2)) continue;  // no area
+    const glm::dvec3 pv = glm::cross(d, e2);
+    const double det = glm::dot(e1, pv);
+    if (det == 0.0 || (frontOnly && det < 0.0)) continue;
+    const glm::dvec3 tv = o - tri[0];
+    const double u = glm::dot(tv, pv) / det;
+    const glm::dvec3 qv = glm::cross(tv, e1);
+    const double v = glm::dot(d, qv) / det;
+    const double t = glm::dot(e2, qv) / det;
+    if (u < 0.0 || u > 1.0 || v < 0.0 || u + v > 1.0 || t < 0.0 || t > bestT) continue;
+    bestT = t;
+    best = {i, t, u, v};
+  }
+  return best;
+}
+
+TEST(TriangleBvh, FirstHitIsTheNearestTriangleOnTheSegmentAsTryingEach) {
+  const std::vector<Triangle> tris = scatter(3000, glm::dvec3(-50.0), 11);
+  const TriangleBvh bvh(tris);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int hits = 0;
+  for (int i = 0; i < 300; ++i) {
+    // Aimed at a triangle's centroid, or anywhere: mostly hits, some misses.
+    const glm::dvec3 o = 60.0 * glm::dvec3(u(rng), u(rng), u(rng));
+    const Triangle& aim =
+        tris[std::size_t((u(rng) + 1.0) * 0.5 * double(tris.size())) % tris.size()];
+    const glm::dvec3 d = i % 4 == 0 ? glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)))
+                                    : glm::normalize((aim[0] + aim[1] + aim[2]) / 3.0 - o);
+    for (const bool front : {false, true}) {
+      const auto want = bruteHit(tris, o, d, 300.0, front);
+      const auto got = bvh.firstHit(o, d, 300.0, front);
+      ASSERT_EQ(bool(got), bool(want)) << i;
+      if (!want) continue;
+      ++hits;
+      // The same triangle, or one met at the same distance up to rounding (1/det vs / det).
+      EXPECT_NEAR(got.t, want.t, 1e-9 * (1.0 + want.t)) << i;
+      if (got.triangle != want.triangle) {
+        EXPECT_NEAR(got.t, want.t, 1e-9) << i;
+      }
+    }
+  }
+  EXPECT_GT(hits, 200);
+}
+
+TEST(TriangleBvh, FirstHitGivesTheBarycentricPointAndSkipsBackFacesWhenAsked) {
+  // One triangle in z = 0, front (counter-clockwise) facing +z.
+  const TriangleBvh bvh({Triangle{glm::dvec3(0, 0, 0), glm::dvec3(4, 0, 0), glm::dvec3(0, 4, 0)}});
+  const auto down = bvh.firstHit({1.0, 2.0, 10.0}, {0.0, 0.0, -1.0}, 20.0, true);
+  ASSERT_TRUE(down);
+  EXPECT_DOUBLE_EQ(down.t, 10.0);
+  EXPECT_DOUBLE_EQ(down.u, 0.25);  // weight of (4, 0, 0)
+  EXPECT_DOUBLE_EQ(down.v, 0.5);   // weight of (0, 4, 0)
+  EXPECT_FALSE(bvh.firstHit({1.0, 2.0, -10.0}, {0.0, 0.0, 1.0}, 20.0, true));
+  EXPECT_TRUE(bvh.firstHit({1.0, 2.0, -10.0}, {0.0, 0.0, 1.0}, 20.0, false));
+  EXPECT_FALSE(bvh.firstHit({1.0, 2.0, 10.0}, {0.0, 0.0, -1.0}, 9.0));   // ends short of it
+  EXPECT_FALSE(bvh.firstHit({5.0, 5.0, 10.0}, {0.0, 0.0, -1.0}, 20.0));  // beside it
+}
+
+}  // namespace
+}  // namespace hlod::metrics

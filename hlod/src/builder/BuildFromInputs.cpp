@@ -4,10 +4,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
-#include <mutex>
 #include <thread>
 
+#include "builder/InOrderPool.h"
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/City.h"
 #include "hlod/geodesy/GeoReference.h"
@@ -20,72 +19,23 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Prepares items 0..count-1 on `threads` workers and commits them in order on the calling
-// thread, so the store does not depend on the thread count. A worker starts item i only when
-// fewer than 2 x threads items wait to be committed: memory is bounded by the items in flight.
-// An error (or an exception, such as bad_alloc) stops the workers and is returned.
+// The blocks of each unit prepared on every core and committed in order (InOrderPool.h).
 using PrepareFn = std::function<Result<std::vector<PreparedBlock>>(std::size_t)>;
 Status prepareInParallel(HlodBuilder& builder, std::size_t count, unsigned threads,
                          const PrepareFn& prepare,
                          const std::function<void(std::size_t, std::uint64_t)>& committed) {
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = unsigned(std::min<std::size_t>(threads, std::max<std::size_t>(1, count)));
-  const std::size_t window = 2 * std::size_t(threads);
-  std::mutex mutex;
-  std::condition_variable changed;
-  std::vector<std::optional<Result<std::vector<PreparedBlock>>>> slots(count);
-  std::size_t next = 0, done = 0;  // next item to start; items committed
-  bool stop = false;
-  const auto work = [&] {
-    for (;;) {
-      std::size_t i;
-      {
-        std::unique_lock lock(mutex);
-        changed.wait(lock, [&] { return stop || next >= count || next < done + window; });
-        if (stop || next >= count) return;
-        i = next++;
-      }
-      Result<std::vector<PreparedBlock>> r = makeError("not prepared");
-      try {
-        r = prepare(i);
-      } catch (const std::exception& e) {
-        r = makeError(std::string("block ") + std::to_string(i) + ": " + e.what());
-      }
-      std::lock_guard lock(mutex);
-      slots[i] = std::move(r);
-      changed.notify_all();
-    }
-  };
-  std::vector<std::thread> workers;
-  for (unsigned t = 0; t < threads; ++t) workers.emplace_back(work);
-  Status status = Ok{};
-  for (std::size_t i = 0; i < count && status; ++i) {
-    Result<std::vector<PreparedBlock>> item = makeError("");
-    {
-      std::unique_lock lock(mutex);
-      changed.wait(lock, [&] { return slots[i].has_value(); });
-      item = std::move(*slots[i]);
-      slots[i].reset();
-    }
-    std::uint64_t triangles = 0;
-    if (!item) {
-      status = item.error();
-    } else {
-      for (PreparedBlock& b : *item) {
-        triangles += b.inputTriangles;
-        if (status) status = builder.commitBlock(std::move(b));
-      }
-    }
-    {
-      std::lock_guard lock(mutex);
-      ++done;
-      if (!status) stop = true;
-      changed.notify_all();
-    }
-    if (status && committed) committed(i, triangles);
-  }
-  for (std::thread& w : workers) w.join();
-  return status;
+  return prepareInOrder<std::vector<PreparedBlock>>(
+      count, threads, prepare,
+      [&](std::size_t i, std::vector<PreparedBlock>&& blocks) -> Status {
+        std::uint64_t triangles = 0;
+        for (PreparedBlock& b : blocks) {
+          triangles += b.inputTriangles;
+          if (auto s = builder.commitBlock(std::move(b)); !s) return s;
+        }
+        if (committed) committed(i, triangles);
+        return Ok{};
+      },
+      "block");
 }
 
 // How a geo-referenced input moves into the ENU frame `to` through ECEF: exactly (a rotation

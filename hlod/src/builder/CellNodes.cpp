@@ -9,7 +9,9 @@
 #include "builder/BlockBorders.h"
 #include "builder/BorderStitching.h"
 #include "builder/BuildingBoxes.h"
+#include "builder/CellAtlas.h"
 #include "builder/CellColours.h"
+#include "builder/InOrderPool.h"
 #include "builder/OuterSides.h"
 #include "builder/Preprocess.h"
 #include "builder/SimplifierImpl.h"
@@ -24,6 +26,16 @@ namespace {
 struct Cell {
   std::vector<std::uint32_t> children;  // node indices, before the final ordering
   std::vector<std::uint32_t> blocks;    // NodeInfo::block of every block below
+};
+
+// Metres: a texel's cast starts at least this far in front of the cell's surface, which the
+// simplification may have moved behind its children's (CellAtlas.h).
+constexpr double kMinCastDepth = 0.5;
+
+// A cell built, waiting to be appended to the store.
+struct PreparedCell {
+  NodeInfo info;
+  StoredPayload payload;
 };
 
 // Keeps one of triangles with the same three vertices in the same turn: children that repeat
@@ -47,27 +59,29 @@ void dropRepeatedTriangles(Mesh& mesh) {
   mesh.indices = std::move(indices);
 }
 
-Result<NodeInfo> buildCell(
-    CellPass& pass, const Cell& cell, const std::vector<Aabb>& blockBoxes,
+// Builds a cell from its children (their NodeInfo copied before the level started: the skeleton
+// grows while the level's cells are built). Thread-safe: reads what the writer flushed.
+Result<PreparedCell> buildCell(
+    const CellPass& pass, const Cell& cell, const std::vector<NodeInfo>& children,
+    const std::vector<Aabb>& blockBoxes,
     const std::unordered_map<glm::dvec3, std::vector<std::uint32_t>, PositionHash>& seamOwners) {
-  const Skeleton& s = pass.skeleton;
   std::vector<LocalMesh> meshes;
   NodeInfo info;
   info.block = kCellBlock;
   std::uint64_t childTriangles = 0;
-  for (std::uint32_t n : cell.children) {
-    auto mesh = pass.writer.readBack(s.nodes[n]);
+  for (const NodeInfo& child : children) {
+    auto mesh = pass.writer.readBack(child);
     if (!mesh) return mesh.error();
     meshes.push_back(std::move(*mesh));
-    info.bounds.extend(s.nodes[n].bounds);
-    info.geometricError = std::max(info.geometricError, s.nodes[n].geometricError);
-    childTriangles += s.nodes[n].numTri;
+    info.bounds.extend(child.bounds);
+    info.geometricError = std::max(info.geometricError, child.geometricError);
+    childTriangles += child.numTri;
   }
+  const double childError = info.geometricError;
   info.centre = info.bounds.centre();
   const ColouredMesh coloured = mergeCellChildren(meshes);
   Mesh merged = weldVertices(coloured.mesh);
   dropRepeatedTriangles(merged);
-  meshes.clear();
   // Locks: seam positions shared with a block outside the cell, and the outline on every side
   // of every block (a side inside the cell too: there the ground ends at the street's middle,
   // and without its outline a street between two blocks simplifies into a gap).
@@ -95,7 +109,7 @@ Result<NodeInfo> buildCell(
   // on them, so that the exact tests of markOutline and blockBorders find them.
   const double tolerance = kSnap * glm::length(info.bounds.size());
   snapOnto(merged, sides, seam, tolerance);
-  const UpAxis up = pass.options.up.value_or(s.up);
+  const UpAxis up = pass.options.up.value_or(pass.skeleton.up);
   const std::vector<CutPlane> outer = outerSides(boxes, blockSides, up);
   stitchBorders(merged, sides, up, tolerance);
   BlockBorders borders = blockBorders(merged, seam);
@@ -149,14 +163,25 @@ Result<NodeInfo> buildCell(
   for (std::size_t k = 0; k < keptBoxes; ++k) appendBox(simplified.mesh, buildings[k], colours, up);
   if (!sides.empty()) addUnderlay(simplified.mesh, coloured.mesh, colours, info.bounds, up);
   simplified.mesh = flatColoured(simplified.mesh, colours);
+  // The children's texture on the cell (CellAtlas.h): texels as large, on screen at the cell's
+  // switch distance, as the children's at theirs, which is where its error, k times theirs, is
+  // as many pixels as theirs. Without textured children the flat colours stay.
+  if (const double childTexel = texelSizeOf(meshes); childTexel > 0.0) {
+    CellAtlasOptions atlas;
+    atlas.up = up;
+    atlas.texelSize =
+        childTexel * std::max(1.0, childError > 0.0 ? info.geometricError / childError : 1.0);
+    atlas.castDepth = std::max(kMinCastDepth, 2.0 * atlas.texelSize);
+    bakeCellAtlas(simplified.mesh, meshes, atlas);
+  }
+  meshes.clear();
   // The box holds what the node draws: its children's boxes, and its underlay below them.
   info.bounds.extend(simplified.mesh.bounds());
   describeNode(info, simplified.mesh, pass.options.cTex);
   LocalMesh local = localAround(simplified.mesh, info.centre);
   local.splats = makeSplats(local);
   info.splatCount = std::uint32_t(local.splats.size());
-  if (auto w = pass.writer.appendPayload(local, info); !w) return w.error();
-  return info;
+  return PreparedCell{info, storePayload(local)};
 }
 
 }  // namespace
@@ -178,30 +203,57 @@ Result<std::uint32_t> addCellNodes(CellPass& pass) {
     return n >= firstCell ? cells[n - firstCell].blocks
                           : std::vector<std::uint32_t>{s.nodes[n].block};
   };
-  // Children after their parents in q.cells: from the end, every cell after its children.
-  for (std::size_t i = q.cells.size(); i-- > 0;) {
-    if (pass.progress) pass.progress(q.cells.size() - 1 - i, q.cells.size());
-    const QuadCell& c = q.cells[i];
-    Cell cell;
-    for (std::uint32_t k = c.firstBlock; k < c.firstBlock + c.blockCount; ++k)
-      cell.children.push_back(q.blocks[k].root);
-    for (std::uint32_t k = c.firstChild; k < c.firstChild + c.childCount; ++k)
-      cell.children.push_back(nodeOf[k]);
-    if (cell.children.size() == 1) {
-      nodeOf[i] = cell.children.front();
-      continue;
+  // q.cells is breadth-first: each quadtree level a run, every cell before its children. Levels
+  // bottom up; within one, the cells from the end, as one thread would take them, built on every
+  // core and committed in that order.
+  std::size_t visited = 0;
+  for (std::size_t end = q.cells.size(); end > 0;) {
+    std::size_t begin = end - 1;
+    while (begin > 0 && q.cells[begin - 1].level == q.cells[end - 1].level) --begin;
+    std::vector<std::size_t> work;  // quadtree cells to build, in commit order
+    std::vector<Cell> pending;
+    std::vector<std::vector<NodeInfo>> childInfo;
+    for (std::size_t i = end; i-- > begin;) {
+      const QuadCell& c = q.cells[i];
+      Cell cell;
+      for (std::uint32_t k = c.firstBlock; k < c.firstBlock + c.blockCount; ++k)
+        cell.children.push_back(q.blocks[k].root);
+      for (std::uint32_t k = c.firstChild; k < c.firstChild + c.childCount; ++k)
+        cell.children.push_back(nodeOf[k]);
+      if (cell.children.size() == 1) {
+        nodeOf[i] = cell.children.front();
+        if (pass.progress) pass.progress(++visited, q.cells.size());
+        continue;
+      }
+      std::vector<NodeInfo> infos;
+      for (std::uint32_t n : cell.children) {
+        const std::vector<std::uint32_t> below = blocksBelow(n);
+        cell.blocks.insert(cell.blocks.end(), below.begin(), below.end());
+        infos.push_back(s.nodes[n]);
+      }
+      std::sort(cell.blocks.begin(), cell.blocks.end());
+      work.push_back(i);
+      pending.push_back(std::move(cell));
+      childInfo.push_back(std::move(infos));
     }
-    for (std::uint32_t n : cell.children) {
-      const std::vector<std::uint32_t> below = blocksBelow(n);
-      cell.blocks.insert(cell.blocks.end(), below.begin(), below.end());
-    }
-    std::sort(cell.blocks.begin(), cell.blocks.end());
-    auto info = buildCell(pass, cell, blockBoxes, seamOwners);
-    if (!info) return info.error();
-    if (s.nodes.size() + 1 >= kNoNode) return makeError("too many nodes");
-    nodeOf[i] = std::uint32_t(s.nodes.size());
-    s.nodes.push_back(*info);
-    cells.push_back(std::move(cell));
+    if (auto f = pass.writer.flush(); !f) return f.error();
+    const Status built = prepareInOrder<PreparedCell>(
+        work.size(), pass.options.threads,
+        [&](std::size_t k) {
+          return buildCell(pass, pending[k], childInfo[k], blockBoxes, seamOwners);
+        },
+        [&](std::size_t k, PreparedCell&& cell) -> Status {
+          if (s.nodes.size() + 1 >= kNoNode) return makeError("too many nodes");
+          if (auto w = pass.writer.appendStored(cell.payload, cell.info); !w) return w;
+          nodeOf[work[k]] = std::uint32_t(s.nodes.size());
+          s.nodes.push_back(cell.info);
+          cells.push_back(std::move(pending[k]));
+          if (pass.progress) pass.progress(++visited, q.cells.size());
+          return Ok{};
+        },
+        "cell");
+    if (!built) return built.error();
+    end = begin;
   }
   if (cells.empty()) return 0u;
 

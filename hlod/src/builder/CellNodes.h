@@ -42,7 +42,12 @@ struct CellPass {
 // - an underlay when its blocks have sides (a city's ground reaching the middles of its
 //   streets): its footprint at the colour of its lowest ground, kUnderlayDepth of its size below
 //   it, which shows where the simplification opened a street (no sky through the ground);
-// - flat colours, no progression; its geometric error is its children's largest plus its own.
+// - textured by an atlas baked from its children (CellAtlas.h), its texels as large, on screen at
+//   the cell's switch distance, as its children's at theirs: their texel size times the cell's
+//   geometric error over theirs (flat colours when no child is textured); no progression; its
+//   geometric error is its children's largest plus its own.
+// A quadtree level's cells need only the levels below: they are built on options.threads cores
+// and committed in the order of one thread, so the store does not depend on the thread count.
 // Then orders the nodes breadth-first from the top cell, the one root (parents before children,
 // siblings contiguous), and renumbers the quadtree's blocks. Returns how many cells it made.
 Result<std::uint32_t> addCellNodes(CellPass& pass);

@@ -3,9 +3,10 @@
 // surface is a shard, and a part of the surface that the simplifier dropped (a courtyard's thin
 // paving collapsed onto its kerb, a box against a wall merged into the wall) is a hole the
 // simplifier's own error estimate does not report. Each is measured against the original
-// triangles, and the vertices where it happened are locked for another reduction; what remains
-// after the last round is repaired directly: flipped triangles turned to face the surface,
-// shards dropped, and the error raised to the distance measured.
+// triangles; where surface was dropped or a shard stands, the vertices of every defect are locked
+// for another reduction; what remains after the last round is repaired directly: flipped
+// triangles turned to face the surface, shards dropped, and the error raised to the distance
+// measured.
 #include "builder/ShapeGuard.h"
 
 #include <algorithm>
@@ -120,6 +121,12 @@ Simplifier::ReducedShape guardedReduce(const Simplifier::Shape& shape, std::size
     facing = std::move(*f);
     lost = std::move(*l);
     if (round == kRepairRounds) break;
+    // Another round only for dropped surface or shards, which the locks restore. Flipped
+    // triangles alone do not pay for one: with their vertices locked the collapses flip about as
+    // many others instead, and the repair below turns them either way.
+    const bool shards =
+        std::any_of(facing.begin(), facing.end(), [&](const auto& tf) { return tf.off > limit; });
+    if (lost.empty() && !shards) break;
     // Lock, for each defect, the original vertex at its place.
     std::size_t locks = 0;
     for (std::size_t t = 0; t < facing.size(); ++t) {

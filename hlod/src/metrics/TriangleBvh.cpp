@@ -342,4 +342,73 @@ void TriangleBvh::nearest(const glm::dvec3& p, double slack, std::vector<std::ui
   std::sort(out.begin(), out.end());
 }
 
+TriangleBvh::Hit TriangleBvh::firstHit(const glm::dvec3& origin, const glm::dvec3& direction,
+                                       double tMax, bool frontOnly) const {
+  Hit hit;
+  const glm::dvec3 o = origin - origin_;
+  const glm::dvec3 inv(1.0 / direction.x, 1.0 / direction.y, 1.0 / direction.z);
+  double best = tMax;
+  // The segment's entry into a box (slabs), or infinity when it misses it before `best`.
+  const auto enter = [&](const Node& node) {
+    double t0 = 0.0, t1 = best;
+    for (int k = 0; k < 3; ++k) {
+      double a = (double(node.min[k]) - o[k]) * inv[k], b = (double(node.max[k]) - o[k]) * inv[k];
+      if (a > b) std::swap(a, b);
+      // A direction of 0 along k: inside the slab (a -inf, b +inf) or outside (NaN-free +-inf).
+      if (std::isnan(a) || std::isnan(b)) {
+        if (o[k] < double(node.min[k]) || o[k] > double(node.max[k]))
+          return std::numeric_limits<double>::infinity();
+        continue;
+      }
+      t0 = std::max(t0, a);
+      t1 = std::min(t1, b);
+    }
+    return t0 <= t1 ? t0 : std::numeric_limits<double>::infinity();
+  };
+  struct Entry {
+    std::uint32_t node;
+    double t;
+  };
+  Entry stack[64];
+  int top = 0;
+  if (const double t = enter(nodes_[0]); std::isfinite(t)) stack[top++] = {0, t};
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.t > best) continue;
+    const Node& node = nodes_[e.node];
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+        if (flat_[i]) continue;
+        const Triangle& tri = triangles_[i];
+        const glm::dvec3 e1 = tri[1] - tri[0], e2 = tri[2] - tri[0];
+        const glm::dvec3 pv = glm::cross(direction, e2);
+        // det = -direction . (e1 x e2): positive where the front faces the origin.
+        const double det = glm::dot(e1, pv);
+        if (det == 0.0 || !std::isfinite(det) || (frontOnly && det < 0.0)) continue;
+        const double invDet = 1.0 / det;
+        const glm::dvec3 tv = origin - tri[0];
+        const double u = glm::dot(tv, pv) * invDet;
+        if (u < 0.0 || u > 1.0) continue;
+        const glm::dvec3 qv = glm::cross(tv, e1);
+        const double v = glm::dot(direction, qv) * invDet;
+        if (v < 0.0 || u + v > 1.0) continue;
+        const double t = glm::dot(e2, qv) * invDet;
+        if (t < 0.0 || t > best) continue;
+        best = t;
+        hit = {ids_[i], t, u, v};
+      }
+      continue;
+    }
+    const Entry left{e.node + 1, enter(nodes_[e.node + 1])};
+    const Entry right{node.first, enter(nodes_[node.first])};
+    const bool leftFirst = left.t <= right.t;
+    assert(top + 2 <= 64);
+    const Entry& nearer = leftFirst ? left : right;
+    const Entry& farther = leftFirst ? right : left;
+    if (std::isfinite(farther.t)) stack[top++] = farther;
+    if (std::isfinite(nearer.t)) stack[top++] = nearer;
+  }
+  return hit;
+}
+
 }  // namespace hlod::metrics

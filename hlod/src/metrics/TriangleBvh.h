@@ -1,6 +1,7 @@
 #pragma once
-// Closest-point distance from a point to a set of triangles, through a bounding volume hierarchy
-// (private to metrics/).
+// Closest-point distance from a point to a set of triangles, and the first triangle a ray meets,
+// through a bounding volume hierarchy (private to hlod/src: metrics/ and the builder's texture
+// baking).
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -42,6 +43,19 @@ class TriangleBvh {
   // there. closest2, when given, receives distance2(p); hint, as within2's, names a triangle
   // tried first and receives the closest one.
   std::vector<std::uint32_t> nearest(const glm::dvec3& p, double slack) const;
+
+  // The first triangle the segment origin + t * direction, t in [0, tMax], meets (either face,
+  // or with frontOnly only one whose front (counter-clockwise) faces the origin; a triangle
+  // without area is never met): its index into the constructor's vector, t, and the
+  // barycentric weights of its second and third corners at the point (the first's is
+  // 1 - u - v). Möller and Trumbore, "Fast, minimum storage ray-triangle intersection" (1997).
+  struct Hit {
+    std::uint32_t triangle = kNoHint;
+    double t = 0.0, u = 0.0, v = 0.0;
+    explicit operator bool() const { return triangle != kNoHint; }
+  };
+  Hit firstHit(const glm::dvec3& origin, const glm::dvec3& direction, double tMax,
+               bool frontOnly = false) const;
   void nearest(const glm::dvec3& p, double slack, std::vector<std::uint32_t>& out,
                double* closest2 = nullptr, std::uint32_t* hint = nullptr) const;
 

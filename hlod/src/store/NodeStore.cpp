@@ -260,8 +260,12 @@ Status NodeStoreWriter::appendSharingTexture(const StoredPayload& payload, const
   return Ok{};
 }
 
-Result<LocalMesh> NodeStoreWriter::readBack(const NodeInfo& node) {
+Status NodeStoreWriter::flush() {
   if (std::fflush(payload_) != 0) return makeError("cannot write payload.bin (disk full?)");
+  return Ok{};
+}
+
+Result<LocalMesh> NodeStoreWriter::readBack(const NodeInfo& node) const {
   std::vector<std::byte> bytes(node.payloadSize);
   if (auto s = readStored(fileno(payload_), node, 0, 0, bytes); !s) return s.error();
   return decodeStored(node, 0, bytes);

@@ -19,7 +19,8 @@ struct GpuTexture {
 class GpuMesh {
  public:
   // Uploads interleaved position/normal/texCoord vertices, 32-bit indices and an RGBA8 texture
-  // with mipmaps (or takes `texture`, the GPU copy of mesh.texture uploaded before). The context
+  // with mipmaps (or takes `texture`, the GPU copy of mesh.texture uploaded before, which then
+  // stands in for mesh.texture: a mesh sharing it may be loaded without its own). The context
   // must be current. Returns when the GL work is done, mipmaps included, so that the time spent
   // in it is the upload's whole cost.
   static hlod::Result<GpuMesh> upload(const GlFunctions& gl, const hlod::LocalMesh& mesh,

@@ -2,10 +2,12 @@
 // Offscreen renderer: one framebuffer (RGBA8 colour, 32-bit float depth, reversed-Z), the shader
 // variants of the declared effects, and the frame as a list of passes, each timed with a
 // GL_TIME_ELAPSED query. One Renderer per GL context (and so per thread / viewing session).
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -105,6 +107,15 @@ class Renderer {
                   std::span<const std::uint8_t> queryMesh);
   FrameTiming endParts(const FrameView& view);
 
+  // The same for meshes that do not fit in memory together (the study's full-detail reference):
+  // the passes that draw them (shadow, geometry) draw `parts` parts in turn into their targets,
+  // cleared before the first; part(k) gives part k's meshes, valid until the next call (it may
+  // upload and free meshes: it runs between draws, inside the pass's timer). With a shadow pass
+  // every part is asked for twice, shadow pass first, and view.sceneRadius must be set (the
+  // shadow map's fit, which cannot wait for all the meshes).
+  using FramePart = std::function<std::vector<const GpuMesh*>(std::size_t part)>;
+  FrameTiming drawFrameInParts(const FrameView& view, std::size_t parts, const FramePart& part);
+
   // The last frame's pixels, RGBA8, row 0 at the top.
   hlod::Image readback();
 
@@ -136,8 +147,12 @@ class Renderer {
 
   void runPass(Pass pass, const FrameView& view, std::span<const GpuMesh* const> meshes,
                FrameTiming& timing, const OcclusionDraw* occlusion);
+  // The sun's view for this frame's shadow map, fitted to view's scene sphere (or the meshes').
+  void fitShadow(const FrameView& view, std::span<const GpuMesh* const> meshes);
+  // Waits for the GL and reads the passes' timers (the occlusion pass's too).
+  void finishFrame(std::chrono::steady_clock::time_point start, FrameTiming& timing);
   void shadowPass(std::span<const GpuMesh* const> meshes,
-                  std::span<const GpuMesh* const> moreCasters);
+                  std::span<const GpuMesh* const> moreCasters, bool clear = true);
   void geometryPass(const FrameView& view, std::span<const GpuMesh* const> meshes,
                     FrameTiming& timing, std::span<const std::uint8_t> queryMesh);
   void clearGeometry();

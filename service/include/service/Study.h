@@ -38,6 +38,9 @@ struct StudyOptions {
   // settled studied frame follows two unmeasured frames 1/fps apart, so that it is culled with
   // the answers of the frame before, as on a walk, not drawn as a path's first frame.
   hlod::OcclusionMode occlusion = hlod::OcclusionMode::Auto;
+  // The full-detail reference holds at most this many decoded bytes (0: no cap): a front larger
+  // than that is drawn in batches, loading and freeing as it goes (BatchedReference).
+  std::uint64_t referenceCapBytes = std::uint64_t(1) << 30;
   // Selector constants of every studied run (`--params`: splats, progressive, c_aim ...); the
   // reference draws full detail with the defaults.
   hlod::SelectorParams selectorParams;

@@ -33,6 +33,7 @@ const char* const kStudyUsage =
     "{study.strips}\n"
     "{memoryMb}\n"
     "{occlusion}\n"
+    "{study.referenceMb}\n"
     "  --params N=V,...        selector constants of the studied runs, as for `hlodr render`\n"
     "                          (splats=1, progressive=0 ...); the reference uses the defaults\n"
     "{splats}\n"
@@ -46,7 +47,7 @@ int runStudy(const Argv& argv) {
       Args::parse(argv, {"quiet", "unlit", "no-textures", "fog"},
                   {"output", "path", "kind", "budgets", "selectors", "sse-px", "size", "frames",
                    "fps", "mode", "strips", "memory-mb", "scene", "params", "splats",
-                   "occlusion"});
+                   "occlusion", "reference-mb"});
   if (!args) return commandError("study", args.message() + "\n" + expandUsage(kStudyUsage), 2);
   if (args->positionals().size() != 1)
     return commandError(
@@ -75,14 +76,17 @@ int runStudy(const Argv& argv) {
   auto fps = args->number(get("fps"));
   auto strips = args->integer(get("study.strips"));
   auto memory = args->number(get("memoryMb"));
+  auto referenceMemory = args->number(get("study.referenceMb"));
   if (!frames) return commandError("study", frames.message(), 2);
   if (!fps) return commandError("study", fps.message(), 2);
   if (!strips) return commandError("study", strips.message(), 2);
   if (!memory) return commandError("study", memory.message(), 2);
+  if (!referenceMemory) return commandError("study", referenceMemory.message(), 2);
   o.frames = std::size_t(*frames);
   o.fps = *fps;
   o.stripFrames = std::size_t(*strips);
   o.memoryCapBytes = std::uint64_t(*memory * 1048576.0);
+  o.referenceCapBytes = std::uint64_t(*referenceMemory * 1048576.0);
   if (auto p = hlod::setSelectorParams(o.selectorParams, args->get("params", "")); !p)
     return commandError("study", "--params: " + p.message(), 2);
   auto splats = args->choice(get("splats"));

@@ -5,6 +5,7 @@
 
 #include "hlod/metrics/ImageMetrics.h"
 #include "renderer/ImageEncoder.h"
+#include "service/BatchedReference.h"
 #include "service/Session.h"
 #include "service/Study.h"
 
@@ -96,31 +97,31 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   base.recentFrames = 0;
   base.effects = o.effects;
 
-  // The reference: full detail, settled, once per studied frame.
+  // The reference: full detail, once per studied frame, in batches within its memory cap.
   StudyReport report;
   report.settings = settings;
   std::vector<hlod::Image> refImages;
   std::vector<hlod::metrics::Mask> refMasks;
   {
-    SessionOptions ro = base;
-    ro.selector = "full";
-    ro.occlusion = hlod::OcclusionMode::Off;
-    auto s = Session::create(source, ro, gl);
-    if (!s) return hlod::makeError("reference: " + s.message());
+    renderer::RenderOptions ro;
+    ro.width = o.width;
+    ro.height = o.height;
+    ro.effects = o.effects;
+    ro.up = hlod::upVector(source->skeleton().up);
+    auto r = BatchedReference::create(source, ro, o.referenceCapBytes, gl);
+    if (!r) return hlod::makeError("reference: " + r.message());
     for (std::uint64_t f : frames) {
       if (cancelled()) return hlod::makeError("cancelled");
-      auto rec = (*s)->renderFrame(path.sampleFrame(f, o.fps, aspect), hlod::FrameMode::Settled);
-      if (!rec)
-        return hlod::makeError("reference frame " + std::to_string(f) + ": " + rec.message());
-      report.reference.push_back({f, rec->time, rec->gpuMs, rec->triangles});
-      refImages.push_back((*s)->readback());
-      refMasks.push_back((*s)->coverage());
-      step("reference frame " + std::to_string(f));
+      const hlod::CameraSample sample = path.sampleFrame(f, o.fps, aspect);
+      auto drawn = (*r)->render(sample);
+      if (!drawn)
+        return hlod::makeError("reference frame " + std::to_string(f) + ": " + drawn.message());
+      report.reference.push_back({f, sample.time, drawn->drawMs, drawn->triangles});
+      refImages.push_back((*r)->readback());
+      refMasks.push_back((*r)->coverage());
+      step("reference frame " + std::to_string(f) + " (" + std::to_string(drawn->batches) +
+           (drawn->batches == 1 ? " batch)" : " batches)"));
     }
-    // A reference without a node that failed to load measures against a damaged store: fail
-    // as `hlodr render` does (the study measured 14,103 of 20,000 triangles and said nothing).
-    if (const std::string failure = (*s)->loadFailure(); !failure.empty())
-      return hlod::makeError("reference: " + failure);
   }
 
   // Strips: a few studied frames, shown at every Lakhia budget (settled).

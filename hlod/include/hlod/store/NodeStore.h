@@ -151,8 +151,11 @@ class NodeStoreWriter {
   // Appends payload's mesh section only; node's texture is the section `owner` (appended before)
   // stored. payload.memoryBytes counts the pixels, as the node holds them once decoded.
   Status appendSharingTexture(const StoredPayload& payload, const NodeInfo& owner, NodeInfo& node);
-  // Reads and decodes the payload a node appended before (what the skeleton's node says).
-  Result<LocalMesh> readBack(const NodeInfo& node);
+  // Makes what was appended so far readable by readBack.
+  Status flush();
+  // Reads and decodes the payload a node appended before the last flush() (what the skeleton's
+  // node says). Thread-safe (pread), also while another thread appends.
+  Result<LocalMesh> readBack(const NodeInfo& node) const;
   // Writes skeleton.bin, flushes, and renames the folder to its destination (replacing an
   // existing store there).
   Status finish(const Skeleton& skeleton, StoreFacts facts);

@@ -11,9 +11,9 @@ namespace hlod {
 
 Result<CameraPath> makeDrivePath(const Skeleton& sk) {
   if (auto z = requireZUp("drive", sk); !z) return z.error();
-  const Aabb b = rootBounds(sk);
+  const Aabb b = blockBounds(sk);
   if (b.empty()) return makeError("drive path: the model has no hlod_0 bounds");
-  const double height = b.min.z + 1.5;
+  constexpr double kHeight = 1.5;  // metres above the street (Streets.h finds it)
   std::vector<double> xs = streetsAlong(sk, 0, kMinStreet);
   std::vector<double> ys = streetsAlong(sk, 1, kMinStreet);
   // A rectangular loop on the outermost inner streets (or just outside the model).
@@ -21,8 +21,8 @@ Result<CameraPath> makeDrivePath(const Skeleton& sk) {
   const double x1 = xs.size() >= 2 ? xs.back() : (xs.size() == 1 ? xs.front() : b.max.x + 4.0);
   const double y0 = ys.size() >= 2 ? ys.front() : b.min.y - 4.0;
   const double y1 = ys.size() >= 2 ? ys.back() : (ys.size() == 1 ? ys.front() : b.max.y + 4.0);
-  std::vector<glm::dvec3> corners = {
-      {x0, y0, height}, {x1, y0, height}, {x1, y1, height}, {x0, y1, height}};
+  // Laid out in plan, then lifted onto the streets.
+  std::vector<glm::dvec3> corners = {{x0, y0, 0.0}, {x1, y0, 0.0}, {x1, y1, 0.0}, {x0, y1, 0.0}};
   double loop = 0.0;
   for (int i = 0; i < 4; ++i) loop += glm::length(corners[(i + 1) % 4] - corners[i]);
   if (!(loop > 1.0)) return makeError("drive path: the model is too small for streets");
@@ -53,6 +53,7 @@ Result<CameraPath> makeDrivePath(const Skeleton& sk) {
       }
     }
   }
+  for (glm::dvec3& p : pts) p.z = streetGround(sk, p.x, p.y) + kHeight;
   std::vector<CameraKeyframe> keys;
   double t = 0.0, travelled = 0.0;
   for (std::size_t i = 0;; ++i) {

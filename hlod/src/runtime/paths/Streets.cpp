@@ -5,10 +5,38 @@
 #include "runtime/paths/PathGenerators.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
 namespace hlod {
+
+Aabb blockBounds(const Skeleton& sk) {
+  Aabb all;
+  for (std::uint32_t r : sk.blockRoots())
+    if (r < sk.nodes.size()) all.extend(sk.nodes[r].bounds);
+  return all;
+}
+
+double streetGround(const Skeleton& sk, double x, double y) {
+  constexpr double kBeside = 1.0;  // metres: blocks this much farther than the nearest count too
+  const auto distance = [&](const Aabb& b) {
+    return std::hypot(std::max({b.min.x - x, 0.0, x - b.max.x}),
+                      std::max({b.min.y - y, 0.0, y - b.max.y}));
+  };
+  const std::vector<std::uint32_t> blocks = sk.blockRoots();
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::uint32_t r : blocks)
+    if (r < sk.nodes.size() && !sk.nodes[r].bounds.empty())
+      nearest = std::min(nearest, distance(sk.nodes[r].bounds));
+  double ground = -std::numeric_limits<double>::infinity();
+  for (std::uint32_t r : blocks)
+    if (r < sk.nodes.size() && !sk.nodes[r].bounds.empty() &&
+        distance(sk.nodes[r].bounds) <= nearest + kBeside)
+      ground = std::max(ground, sk.nodes[r].bounds.min.z);
+  return std::isfinite(ground) ? ground : 0.0;
+}
 
 std::vector<double> streetsAlong(const Skeleton& sk, int axis, double minGap) {
   std::vector<std::pair<double, double>> iv;

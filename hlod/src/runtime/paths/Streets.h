@@ -16,6 +16,19 @@ constexpr double kMinStreet = 3.0;  // metres: narrower gaps are not streets
 // reaches the middle of the street, as the procedural city's do, meet there).
 std::vector<double> streetsAlong(const Skeleton& sk, int axis, double minGap);
 
+// The box of the blocks (their hlod_0 nodes): the city a street generator walks through. A cell
+// node's box also holds its underlay, a share of the cell's size below the ground (CellNodes.h).
+Aabb blockBounds(const Skeleton& sk);
+
+// The ground at (x, y): the highest bottom of the blocks nearest to (x, y) in plan (those within a
+// metre of the nearest: a street's middle lies between two blocks, or on both their sides). A
+// block's box reaches down to its ground, its lowest corner; the store's box does not tell where
+// the streets are (cells' underlays lie below it, and a city far from its frame's origin drops with
+// the earth's curvature towards its edges: 31 m at 20 km). On such a city a block's ground tilts,
+// and the estimate is low by at most the tilt across one block (0.3 m for 100 m blocks 20 km from
+// the origin).
+double streetGround(const Skeleton& sk, double x, double y);
+
 // The street generators read the model as a z-up city (streets in X and Y, heights in Z): an
 // Error naming `kind` and suggesting the orbit when the store is not z-up, or lies on the earth
 // in earth-centred coordinates.

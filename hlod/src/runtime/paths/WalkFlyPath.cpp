@@ -11,11 +11,11 @@ namespace hlod {
 
 Result<CameraPath> makeWalkFlyPath(const Skeleton& sk) {
   if (auto z = requireZUp("walk-fly", sk); !z) return z.error();
-  const Aabb b = rootBounds(sk);
+  const Aabb b = blockBounds(sk);
   if (b.empty()) return makeError("walk-fly path: the model has no hlod_0 bounds");
   const glm::dvec3 size = b.size();
   const glm::dvec3 c = b.centre();
-  const double eye = b.min.z + 1.7;
+  constexpr double kEye = 1.7;  // metres above the street
   // Walk along the street (a gap in X, running along Y) nearest the centre; outside the model
   // when there is none.
   std::vector<double> xs = streetsAlong(sk, 0, kMinStreet);
@@ -23,7 +23,10 @@ Result<CameraPath> makeWalkFlyPath(const Skeleton& sk) {
   for (double x : xs) {
     if (std::abs(x - c.x) < std::abs(sx - c.x)) sx = x;
   }
-  const double walkSpeed = 2.0;  // m/s, a brisk walk
+  // Eye height over the street where the walk is, from the blocks beside it (Streets.h).
+  const auto eye = [&](double y) { return streetGround(sk, sx, y) + kEye; };
+  const double ground = streetGround(sk, c.x, c.y);  // what the fly-over looks down at
+  const double walkSpeed = 2.0;                      // m/s, a brisk walk
   const double y0 = b.min.y - 2.0;
   const double flyHeight = b.max.z + 0.8 * std::max(size.x, size.y);
   std::vector<CameraKeyframe> keys;
@@ -37,22 +40,23 @@ Result<CameraPath> makeWalkFlyPath(const Skeleton& sk) {
   // 0-15 s: walk, looking ahead along the street.
   for (double t : {0.0, 5.0, 10.0, 15.0}) {
     const double y = y0 + walkSpeed * t;
-    key(t, {sx, y, eye}, {sx, y + 30.0, eye});
+    key(t, {sx, y, eye(y)}, {sx, y + 30.0, eye(y + 30.0)});
   }
   const double yw = y0 + walkSpeed * 15.0;
+  const double eyeW = eye(yw);
   // 15-30 s: rise while moving on, the view tilting down to the model centre. The heights follow
   // an ease-in-out (smoothstep) from eye height at 15 s to the fly height at 30 s, so that the
   // climb sets off gently from the walk instead of shooting up to a fixed share of the height.
   const auto climb = [&](double t) {
     const double u = (t - 15.0) / 15.0;
-    return eye + (flyHeight - eye) * u * u * (3.0 - 2.0 * u);
+    return eyeW + (flyHeight - eyeW) * u * u * (3.0 - 2.0 * u);
   };
-  key(19.0, {sx, yw + 12.0, climb(19.0)}, {sx, yw + 60.0, b.min.z});
-  key(24.0, {sx, c.y - 0.35 * size.y, climb(24.0)}, {c.x, c.y, b.min.z});
+  key(19.0, {sx, yw + 12.0, climb(19.0)}, {sx, yw + 60.0, streetGround(sk, sx, yw + 60.0)});
+  key(24.0, {sx, c.y - 0.35 * size.y, climb(24.0)}, {c.x, c.y, ground});
   // Then across the whole model at the fly height.
-  key(30.0, {c.x + 0.2 * size.x, c.y, flyHeight}, {c.x, c.y + 0.1 * size.y, b.min.z});
+  key(30.0, {c.x + 0.2 * size.x, c.y, flyHeight}, {c.x, c.y + 0.1 * size.y, ground});
   key(35.0, {c.x + 0.35 * size.x, c.y + 0.4 * size.y, flyHeight},
-      {c.x, c.y + 0.2 * size.y, b.min.z});
+      {c.x, c.y + 0.2 * size.y, ground});
   return CameraPath::fromKeyframes(std::move(keys));
 }
 
