@@ -19,7 +19,8 @@ out vec4 fragColor;
 void main() { fragColor = uBaseColor; }
 )";
 
-// The unit cube: 8 corners, 12 triangles (36 indices), then its 12 edges (24 indices).
+// The unit cube: 8 corners, 12 triangles (36 indices, counter-clockwise seen from outside), then
+// its 12 edges (24 indices).
 constexpr std::array<float, 24> kCorners = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
                                             0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
 constexpr std::array<std::uint32_t, 60> kIndices = {
@@ -93,7 +94,11 @@ void OcclusionQueries::queryBoxes(const FrameView& view,
   gl_.DepthFunc(GL_GREATER);
   gl_.DepthMask(GL_FALSE);
   gl_.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  gl_.Disable(GL_CULL_FACE);
+  // Front faces only (the cube's triangles wind outwards): no queried box holds the camera, so a
+  // back face that passes the depth test lies behind a front face that passes too. Half the
+  // fragments, the same answers.
+  gl_.Enable(GL_CULL_FACE);
+  gl_.CullFace(GL_BACK);
   for (const auto& batch : batches) {
     const GLuint id = nextQuery();
     boxIds_.push_back(id);
@@ -101,6 +106,7 @@ void OcclusionQueries::queryBoxes(const FrameView& view,
     for (const hlod::Aabb& box : batch) drawBox(view, box, GL_TRIANGLES, kFaceIndices, nullptr);
     gl_.EndQuery(GL_SAMPLES_PASSED);
   }
+  gl_.Disable(GL_CULL_FACE);
   gl_.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   gl_.DepthMask(GL_TRUE);
   gl_.BindVertexArray(0);
