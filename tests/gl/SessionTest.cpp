@@ -162,6 +162,7 @@ TEST_F(SessionTest, TheBatchedReferenceDrawsTheFullFrontWithinItsCap) {
   renderer::RenderOptions ro;
   ro.width = options.width;
   ro.height = options.height;
+  ro.effects = options.effects;  // what the session draws (none declared: flat colours)
   std::uint64_t smallest = ~std::uint64_t(0), largest = 0;
   for (const auto& n : skeleton.nodes) {
     smallest = std::min(smallest, n.memoryBytes - n.textureBytes);
