@@ -370,26 +370,25 @@ void Renderer::fitShadow(const FrameView& view, std::span<const GpuMesh* const> 
       orthoZeroToOne(radius, radius, 3.0 * radius) * lookAt(sun * 2.0 * radius, {}, options_.up);
 }
 
-void Renderer::finishFrame(std::chrono::steady_clock::time_point start, FrameTiming& timing) {
+void Renderer::finishFrame(std::chrono::steady_clock::time_point start, FrameTiming& timing,
+                           const std::vector<std::size_t>* timed) {
   const GlFunctions& g = gl();
   g.BindVertexArray(0);
   g.Disable(GL_CULL_FACE);
   g.Disable(GL_BLEND);
   g.Finish();
-  timing.cpuMs =
+  timing.cpuMs +=
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  for (std::size_t i = 0; i < passes_.size(); ++i) {
+  auto read = [&](const GlObject& query, const char* name) {
     GLuint64 ns = 0;
-    g.GetQueryObjectui64v(queries_[i].id(), GL_QUERY_RESULT, &ns);
-    timing.passes.push_back({passName(passes_[i]), static_cast<double>(ns) * 1e-6});
+    g.GetQueryObjectui64v(query.id(), GL_QUERY_RESULT, &ns);
+    timing.passes.push_back({name, static_cast<double>(ns) * 1e-6});
     timing.gpuMs += timing.passes.back().gpuMs;
-  }
-  if (occlusionPass_) {
-    GLuint64 ns = 0;
-    g.GetQueryObjectui64v(occlusionTimer_.id(), GL_QUERY_RESULT, &ns);
-    timing.passes.push_back({"occlusion", static_cast<double>(ns) * 1e-6});
-    timing.gpuMs += timing.passes.back().gpuMs;
-  }
+  };
+  for (std::size_t i = 0; i < passes_.size(); ++i)
+    if (!timed || std::find(timed->begin(), timed->end(), i) != timed->end())
+      read(queries_[i], passName(passes_[i]));
+  if (occlusionPass_) read(occlusionTimer_, "occlusion");
 }
 
 void Renderer::beginParts(const FrameView& view, const OcclusionDraw* occlusion) {
@@ -425,8 +424,7 @@ double Renderer::drawPart(const FrameView& view, std::span<const GpuMesh* const>
 }
 
 FrameTiming Renderer::endParts(const FrameView& view) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
+  const auto start = std::chrono::steady_clock::now();
   const GlFunctions& g = gl();
   FrameTiming timing = parts_;
   // The geometry's parts were timed through their glFinish (a timer query around them would
@@ -454,23 +452,7 @@ FrameTiming Renderer::endParts(const FrameView& view) {
     g.Viewport(0, 0, options_.width, options_.height);
     occlusion_->drawTinted(view, occlusion->tint, glm::vec4(1.0f, 0.85f, 0.1f, 0.3f));
   }
-  g.BindVertexArray(0);
-  g.Disable(GL_CULL_FACE);
-  g.Disable(GL_BLEND);
-  g.Finish();
-  timing.cpuMs += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  for (std::size_t i : after) {
-    GLuint64 ns = 0;
-    g.GetQueryObjectui64v(queries_[i].id(), GL_QUERY_RESULT, &ns);
-    timing.passes.push_back({passName(passes_[i]), static_cast<double>(ns) * 1e-6});
-    timing.gpuMs += timing.passes.back().gpuMs;
-  }
-  if (occlusionPass_) {
-    GLuint64 ns = 0;
-    g.GetQueryObjectui64v(occlusionTimer_.id(), GL_QUERY_RESULT, &ns);
-    timing.passes.push_back({"occlusion", static_cast<double>(ns) * 1e-6});
-    timing.gpuMs += timing.passes.back().gpuMs;
-  }
+  finishFrame(start, timing, &after);
   partsOcclusion_ = {};
   partsHaveOcclusion_ = false;
   return timing;

@@ -218,21 +218,23 @@ Status FrameDriver::probeVTime(const Camera& camera) {
   return Ok{};
 }
 
+Status FrameDriver::uploadSettled(FrameRecord& rec) {
+  drainLoader();
+  while (renderer_.pendingUploads() > 0) {
+    auto u = renderer_.upload(1e300, 0);
+    if (!u) return u.error();
+    rec.uploadMs += u->ms;
+    rec.uploads += u->uploads;
+    rec.uploadBytes += u->bytes;
+    if (u->uploads == 0) break;  // the rest deferred by the GPU memory budget
+  }
+  return Ok{};
+}
+
 Result<std::optional<DrawReport>> FrameDriver::drawWhileLoading(const View& view,
                                                                 const OcclusionPlan* plan,
                                                                 FrameRecord& rec) {
-  auto uploadAll = [&]() -> Status {
-    drainLoader();
-    while (renderer_.pendingUploads() > 0) {
-      auto u = renderer_.upload(1e300, 0);
-      if (!u) return u.error();
-      rec.uploadMs += u->ms;
-      rec.uploads += u->uploads;
-      rec.uploadBytes += u->bytes;
-      if (u->uploads == 0) break;  // the rest deferred by the GPU memory budget
-    }
-    return Ok{};
-  };
+  auto uploadAll = [&] { return uploadSettled(rec); };
   if (auto s = uploadAll(); !s) return s.error();
   // L_I: the front's nodes in memory now (on the GPU after the uploads); L_O: the rest.
   std::vector<std::size_t> in, out;
@@ -410,14 +412,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
         rec.stalls = 1;
         loader_.waitUntilResident(sel.front, options_.settleTimeout);
       }
-      drainLoader();
-      while (renderer_.pendingUploads() > 0) {
-        auto u = renderer_.upload(1e300, 0);
-        if (!u) return u.error();
-        rec.uploadMs += u->ms;
-        rec.uploads += u->uploads;
-        rec.uploadBytes += u->bytes;
-      }
+      if (auto u = uploadSettled(rec); !u) return u.error();
       if (!onGpu()) {
         // Memory cap, a failed load or the timeout: the front does not fit. Draw what is
         // there, coarser.

@@ -149,8 +149,10 @@ class Renderer {
                FrameTiming& timing, const OcclusionDraw* occlusion);
   // The sun's view for this frame's shadow map, fitted to view's scene sphere (or the meshes').
   void fitShadow(const FrameView& view, std::span<const GpuMesh* const> meshes);
-  // Waits for the GL and reads the passes' timers (the occlusion pass's too).
-  void finishFrame(std::chrono::steady_clock::time_point start, FrameTiming& timing);
+  // Waits for the GL, adds the CPU time since start and reads the passes' timers: those at the
+  // indices `timed` (nullptr: all), and the occlusion pass's when it ran.
+  void finishFrame(std::chrono::steady_clock::time_point start, FrameTiming& timing,
+                   const std::vector<std::size_t>* timed = nullptr);
   void shadowPass(std::span<const GpuMesh* const> meshes,
                   std::span<const GpuMesh* const> moreCasters, bool clear = true);
   void geometryPass(const FrameView& view, std::span<const GpuMesh* const> meshes,

@@ -201,6 +201,9 @@ class FrameDriver {
   // Queues for upload the nodes the loader holds but the GPU does not (freed there by the GPU
   // memory budget): the frame wants them again.
   void requeue(std::span<const std::uint32_t> nodes);
+  // Settled: what the loader holds goes to the GPU, unbudgeted (the wait's time, not the
+  // frame's), up to what the GPU memory budget defers.
+  Status uploadSettled(FrameRecord& rec);
   // A settled frame whose front is not all on the GPU, drawn while the rest loads (L_I first,
   // then each node of L_O as it arrives). Nothing (no report) when the renderer cannot, or when
   // L_O did not arrive in time (the frame is then drawn coarser as before).
