@@ -85,6 +85,10 @@ std::vector<Setting> makeTable() {
           "GPU memory budget in MB: nodes out of the front are evicted least recently used "
           "first (0: none)",
           "render STORE, POST /api/sessions, /api/jobs"),
+      row("predict", "", "predict", K::Flag, 0, 0, "off", "",
+          "prefetch for the camera its recent motion predicts half a second ahead (Manocha sec. "
+          "5.3; measured no better over a slow link, docs/results.md)",
+          "POST /api/sessions"),
       row("showOcclusion", "show-occlusion", "showOcclusion", K::Flag, 0, 0, "off", "",
           "tint the boxes of the nodes occlusion culling hid (debug view)",
           "render STORE, POST /api/sessions"),

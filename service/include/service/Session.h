@@ -53,7 +53,7 @@ struct SessionOptions {
   std::uint64_t gpuBudgetBytes = 0;  // GPU memory budget (GpuMemoryManager); 0 = none
   bool showOcclusion = false;        // debug view: the occluded nodes' boxes tinted
   bool renderWhileLoading = true;    // settled frames drawn while their front loads
-  bool predict = true;               // realtime frames without a path prefetch a predicted camera
+  bool predict = false;              // realtime frames without a path prefetch a predicted camera
 };
 
 class Session {

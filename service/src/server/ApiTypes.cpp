@@ -6,10 +6,10 @@ namespace service::server {
 
 std::string RenderSettings::key() const {
   char buf[200];
-  std::snprintf(buf, sizeof buf, "%dx%d/%g/%s/%g/%llu/%s/%llu/%d", width, height, budgetMs,
+  std::snprintf(buf, sizeof buf, "%dx%d/%g/%s/%g/%llu/%s/%llu/%d%d", width, height, budgetMs,
                 selector.c_str(), ssePx, static_cast<unsigned long long>(memoryCapBytes),
                 std::string(hlod::occlusionModeName(occlusion)).c_str(), static_cast<unsigned long long>(gpuBudgetBytes),
-                int(showOcclusion));
+                int(showOcclusion), int(predict));
   return buf + ("/" + effectsKey);
 }
 
@@ -23,6 +23,7 @@ nlohmann::json RenderSettings::json() const {
                       {"occlusion", std::string(hlod::occlusionModeName(occlusion))},
                       {"gpuMb", double(gpuBudgetBytes) / (1024.0 * 1024.0)},
                       {"showOcclusion", showOcclusion},
+                      {"predict", predict},
                       {"effects", hlod::declaredEffects(effects)}};
   if (!sceneFile.empty()) j["sceneFile"] = sceneFile;
   return j;
@@ -31,7 +32,7 @@ nlohmann::json RenderSettings::json() const {
 const std::set<std::string>& renderSettingFields() {
   static const std::set<std::string> fields = {
       "width", "height", "budgetMs", "selector", "ssePx", "memoryMb", "occlusion", "gpuMb",
-      "showOcclusion"};
+      "showOcclusion", "predict"};
   return fields;
 }
 
@@ -47,6 +48,7 @@ ApiResult<RenderSettings> readRenderSettings(const JsonInput& in, int maxSize, b
   auto occlusion = in.choice(get("occlusion"));
   auto gpu = in.number(get("gpuMb"));
   auto show = in.boolean(get("showOcclusion"));
+  auto predict = in.boolean(get("predict"));
   if (!w) return badRequest(w.message());
   if (!h) return badRequest(h.message());
   if (!budget) return badRequest(budget.message());
@@ -56,6 +58,7 @@ ApiResult<RenderSettings> readRenderSettings(const JsonInput& in, int maxSize, b
   if (!occlusion) return badRequest(occlusion.message());
   if (!gpu) return badRequest(gpu.message());
   if (!show) return badRequest(show.message());
+  if (!predict) return badRequest(predict.message());
   if (!memory && in.has("memoryMb")) return badRequest("memoryMb: only for sessions and jobs");
   if (!memory && in.has("gpuMb")) return badRequest("gpuMb: only for sessions and jobs");
   s.width = int(*w);
@@ -67,6 +70,7 @@ ApiResult<RenderSettings> readRenderSettings(const JsonInput& in, int maxSize, b
   s.occlusion = *hlod::parseOcclusionMode(*occlusion);  // the table's choices parse
   s.gpuBudgetBytes = static_cast<std::uint64_t>(*gpu * 1024.0 * 1024.0);
   s.showOcclusion = *show;
+  s.predict = *predict;
   return s;
 }
 

@@ -58,6 +58,7 @@ struct RenderSettings {
   hlod::OcclusionMode occlusion = hlod::OcclusionMode::Auto;
   std::uint64_t gpuBudgetBytes = 0;
   bool showOcclusion = false;
+  bool predict = false;
   hlod::SceneEffects effects = hlod::defaultEffects();  // from the request's `scene`
   std::string effectsKey;                   // SceneChoice::key: equal effects, equal key
   std::optional<hlod::SceneCamera> camera;  // the scene file's: where sessions and orbits start

@@ -33,6 +33,7 @@ hlod::Result<std::unique_ptr<Session>> openSession(Scene& scene, const RenderSet
   o.occlusion = settings.occlusion;
   o.gpuBudgetBytes = settings.gpuBudgetBytes;
   o.showOcclusion = settings.showOcclusion;
+  o.predict = settings.predict;
   o.effects = settings.effects;
   o.cache = cache;
   o.cacheStore = scene.cacheStore;

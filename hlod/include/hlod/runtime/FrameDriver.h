@@ -152,7 +152,7 @@ struct FrameDriverOptions {
   bool renderWhileLoading = true;
   // Realtime frames without a look-ahead camera (an interactive session) prefetch for the
   // camera their recent motion predicts (MotionPredictor).
-  bool predict = true;
+  bool predict = false;
   MotionPredictorParams prediction;
 };
 
