@@ -491,11 +491,6 @@ void appendBox(Mesh& mesh, const BuildingBox& b, std::vector<glm::vec4>& colours
   }
 }
 
-namespace {
-
-// Keeps one of triangles with the same three vertices in the same turn: children that repeat
-// their triangles (a pile of copies of one quad, which nothing can simplify) would otherwise hand
-// the shape guard a pile whose every triangle is every query's nearest.
 void dropRepeatedTriangles(Mesh& mesh) {
   std::vector<std::array<std::uint32_t, 4>> keys;  // rotated so the smallest comes first, then t
   for (std::uint32_t t = 0; t * 3 < mesh.indices.size(); ++t) {
@@ -513,6 +508,8 @@ void dropRepeatedTriangles(Mesh& mesh) {
     if (keep[t]) indices.insert(indices.end(), &mesh.indices[3 * t], &mesh.indices[3 * t] + 3);
   mesh.indices = std::move(indices);
 }
+
+namespace {
 
 Result<NodeInfo> buildCell(
     CellPass& pass, const Cell& cell, const std::vector<Aabb>& blockBoxes,

@@ -38,6 +38,11 @@ ColouredMesh mergeCellChildren(std::span<const LocalMesh> children);
 // neighbouring colours), and flat shaded (three vertices per triangle, its face's normal).
 Mesh flatColoured(const Mesh& simplified, std::span<const glm::vec4> colours);
 
+// Keeps one of triangles with the same three vertices in the same turn: children that repeat
+// their triangles (a pile of copies of one quad, which nothing can simplify) would otherwise hand
+// the shape guard a pile whose every triangle is every query's nearest.
+void dropRepeatedTriangles(Mesh& mesh);
+
 // Splits each open-border edge lying on one of the planes at the border positions of the other
 // children strictly inside it: two blocks' grounds meet at a street's middle with the same
 // corners, but each dropped other straight-run vertices (kVertexOnOutline), and the T-junctions
