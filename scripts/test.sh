@@ -13,6 +13,8 @@ scripts/build.sh
 # installed from there when missing, with no network at all.
 if command -v npm >/dev/null; then
   (cd tests/web && { npm ls --offline >/dev/null 2>&1 || npm ci --offline --no-audit --no-fund; })
+  # The glTF validator of the plant test, kept in tests/plant/vendor/ likewise.
+  (cd tests/plant && { npm ls --offline >/dev/null 2>&1 || npm ci --offline --no-audit --no-fund; })
 else
   echo "test: no npm, the browser test (web.page) will be skipped"
 fi
