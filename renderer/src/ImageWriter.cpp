@@ -1,5 +1,5 @@
 // Image output: the format follows the file extension (hlod::writeImageFile checks every write).
-#include "hlod/import/ImageWriter.h"
+#include "hlod/export/ImageWriter.h"
 #include "renderer/Renderer.h"
 
 namespace renderer {

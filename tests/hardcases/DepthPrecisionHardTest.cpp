@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "Places.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "renderer/FrameView.h"
 #include "renderer/GpuMesh.h"
 #include "renderer/Renderer.h"

@@ -13,7 +13,7 @@
 #include "HardcaseFolder.h"
 #include "Places.h"
 #include "hlod/builder/HlodBuilder.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "renderer/FrameView.h"
 #include "renderer/GpuMesh.h"
 #include "renderer/Renderer.h"

@@ -1,5 +1,5 @@
 // Geographic anchors of city blocks (lat/lon/height) placed in the city's east-north-up frame in
-// double precision (hlod/city/Geodesy.h, readCityManifest, loadCityBlock). The cases where a
+// double precision (hlod/geodesy/Geodesy.h, readCityManifest, loadCityBlock). The cases where a
 // local tangent plane built from differences of longitude goes wrong: a city straddling the
 // antimeridian (a difference of 359.999 degrees is 0.001) and one around a pole (where east
 // and north turn with the meridian, and a longitude difference of 180 degrees is a few metres).
@@ -12,7 +12,7 @@
 #include "HardcaseFolder.h"
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/City.h"
-#include "hlod/import/PlyWriter.h"
+#include "hlod/export/PlyWriter.h"
 
 namespace {
 

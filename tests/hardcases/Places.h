@@ -7,7 +7,7 @@
 
 #include <glm/glm.hpp>
 
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 
 namespace hardcase {
 

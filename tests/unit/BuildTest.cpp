@@ -10,8 +10,10 @@
 #include <set>
 
 #include "BuildTestMeshes.h"
+#include "builder/ImageResize.h"
 #include "builder/Preprocess.h"
 #include "builder/SlabPartition.h"
+#include "builder/TextureCrop.h"
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/builder/Simplifier.h"
 

@@ -10,8 +10,13 @@
 
 #include "ImportTestUtil.h"
 #include "RuntimeTestScene.h"
+#include "builder/BorderStitching.h"
+#include "builder/BuildingBoxes.h"
+#include "builder/CellColours.h"
 #include "builder/CellNodes.h"
+#include "builder/OuterSides.h"
 #include "builder/Preprocess.h"
+#include "builder/Underlay.h"
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/City.h"
 #include "hlod/runtime/Selector.h"

@@ -1,7 +1,7 @@
-// WGS84 geodetic, ECEF and local east-north-up conversions (hlod/city/Geodesy.h): known points,
+// WGS84 geodetic, ECEF and local east-north-up conversions (hlod/geodesy/Geodesy.h): known points,
 // published lengths of a degree, and round trips exact to well under a millimetre everywhere,
 // the poles and the antimeridian included.
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 
 #include <gtest/gtest.h>
 

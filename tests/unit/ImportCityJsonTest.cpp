@@ -14,9 +14,9 @@
 
 #include "ImportTestUtil.h"
 #include "SharedData.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Epsg.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "hlod/import/CityJsonPalette.h"
-#include "hlod/import/Epsg.h"
 #include "hlod/import/Import.h"
 
 namespace hlod {

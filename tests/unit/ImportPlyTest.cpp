@@ -3,8 +3,8 @@
 #include <unistd.h>
 
 #include "ImportTestUtil.h"
+#include "hlod/export/PlyWriter.h"
 #include "hlod/import/Import.h"
-#include "hlod/import/PlyWriter.h"
 
 namespace hlod {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "hlod/city/Projection.h"
+#include "hlod/geodesy/Projection.h"
 
 using namespace hlod;
 

@@ -13,7 +13,7 @@
 
 #include "RuntimeTestScene.h"
 #include "hlod/builder/HlodBuilder.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/LakhiaSelector.h"
 #include "hlod/runtime/Selector.h"

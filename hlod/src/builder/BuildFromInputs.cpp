@@ -10,7 +10,7 @@
 
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/City.h"
-#include "hlod/city/GeoReference.h"
+#include "hlod/geodesy/GeoReference.h"
 
 namespace hlod {
 

@@ -12,9 +12,6 @@
 #include <thread>
 #include <unordered_map>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
 #include "builder/BlockBorders.h"
 #include "builder/CellNodes.h"
 #include "builder/FacadePartition.h"
@@ -22,6 +19,7 @@
 #include "builder/Preprocess.h"
 #include "builder/SimplifierImpl.h"
 #include "builder/SlabPartition.h"
+#include "builder/TextureCrop.h"
 #include "hlod/city/City.h"
 #include "hlod/parry/Splats.h"
 
@@ -196,82 +194,6 @@ std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles) {
     appendBlocks(mesh, parts, blocks);
   }
   return blocks;
-}
-
-Image resizeImage(const Image& image, int width, int height) {
-  Image out;
-  out.width = width;
-  out.height = height;
-  out.pixels.resize(std::size_t(width) * height * 4);
-  // OpenImageIO's box filter, one destination pixel wide: each output pixel is the mean of the
-  // source pixels under it. Both buffers are wrapped, not copied; one thread (the builder prepares
-  // blocks on every core already).
-  const OIIO::ImageBuf src(OIIO::ImageSpec(image.width, image.height, 4, OIIO::TypeDesc::UINT8),
-                           const_cast<std::uint8_t*>(image.pixels.data()));
-  OIIO::ImageBuf dst(OIIO::ImageSpec(width, height, 4, OIIO::TypeDesc::UINT8), out.pixels.data());
-  OIIO::ImageBufAlgo::resize(dst, src, "box", 1.0f, OIIO::ROI(0, width, 0, height, 0, 1, 0, 4), 1);
-  return out;
-}
-
-TexelRect usedTexels(const Image& texture, std::span<const glm::vec2> texCoords) {
-  TexelRect r{0, 0, texture.width, texture.height};
-  glm::vec2 lo(1.0f), hi(0.0f);
-  bool inUnit = !texCoords.empty();
-  for (const auto& t : texCoords) {
-    if (!(t.x >= 0.0f && t.x <= 1.0f && t.y >= 0.0f && t.y <= 1.0f)) inUnit = false;
-    lo = glm::min(lo, t);
-    hi = glm::max(hi, t);
-  }
-  if (!inUnit) return r;
-  // One texel of margin keeps bilinear filtering at the crop's edge on the right texels.
-  TexelRect c{std::max(0, int(std::floor(lo.x * texture.width)) - 1),
-              std::max(0, int(std::floor(lo.y * texture.height)) - 1),
-              std::min(texture.width, int(std::ceil(hi.x * texture.width)) + 1),
-              std::min(texture.height, int(std::ceil(hi.y * texture.height)) + 1)};
-  return c.x1 <= c.x0 || c.y1 <= c.y0 ? r : c;
-}
-
-namespace {
-
-// Texture coordinates of the whole texture to those of its rect.
-void remapToRect(const Image& texture, const TexelRect& rect, std::vector<glm::vec2>& texCoords) {
-  const int cw = rect.x1 - rect.x0, ch = rect.y1 - rect.y0;
-  if (cw == texture.width && ch == texture.height) return;
-  for (auto& t : texCoords) {
-    t.x = (t.x * float(texture.width) - float(rect.x0)) / float(cw);
-    t.y = (t.y * float(texture.height) - float(rect.y0)) / float(ch);
-  }
-}
-
-// The rect of texture, box-filtered to about 1/sqrt(factor) of its side (at least
-// kMinTextureSide pixels, never enlarged).
-std::shared_ptr<const Image> cropImage(const Image& texture, const TexelRect& rect, double factor) {
-  const int cw = rect.x1 - rect.x0, ch = rect.y1 - rect.y0;
-  const bool cropped = cw != texture.width || ch != texture.height;
-  const double scale = factor > 1.0 ? 1.0 / std::sqrt(factor) : 1.0;
-  const int w = std::min(cw, std::max(std::min(cw, kMinTextureSide), int(std::lround(cw * scale))));
-  const int h = std::min(ch, std::max(std::min(ch, kMinTextureSide), int(std::lround(ch * scale))));
-  if (!cropped && w == cw && h == ch) return std::make_shared<Image>(texture);
-  Image crop;
-  crop.width = cw;
-  crop.height = ch;
-  crop.pixels.resize(std::size_t(cw) * ch * 4);
-  for (int y = 0; y < ch; ++y)
-    std::copy_n(texture.pixels.begin() + (std::size_t(y + rect.y0) * texture.width + rect.x0) * 4,
-                std::size_t(cw) * 4, crop.pixels.begin() + std::size_t(y) * cw * 4);
-  if (w == cw && h == ch) return std::make_shared<Image>(std::move(crop));
-  return std::make_shared<Image>(resizeImage(crop, w, h));
-}
-
-}  // namespace
-
-std::shared_ptr<const Image> prepareNodeTexture(const Image& texture,
-                                                std::vector<glm::vec2>& texCoords, double factor) {
-  if (texture.empty() || texture.pixels.size() != std::size_t(texture.width) * texture.height * 4)
-    return nullptr;
-  const TexelRect rect = usedTexels(texture, texCoords);
-  remapToRect(texture, rect, texCoords);
-  return cropImage(texture, rect, factor);
 }
 
 Result<std::unique_ptr<HlodBuilder>> HlodBuilder::create(const std::filesystem::path& dir,

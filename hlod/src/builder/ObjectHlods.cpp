@@ -13,8 +13,9 @@
 #include <unordered_map>
 
 #include "builder/BlockBorders.h"
-#include "builder/CellNodes.h"
+#include "builder/CellColours.h"
 #include "builder/Preprocess.h"
+#include "builder/TextureCrop.h"
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/parry/Splats.h"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <set>
 
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 
 namespace hlod {
 

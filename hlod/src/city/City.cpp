@@ -17,8 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "city/CityPlan.h"
-#include "hlod/import/ImageWriter.h"
-#include "hlod/import/PlyWriter.h"
+#include "hlod/export/ImageWriter.h"
+#include "hlod/export/PlyWriter.h"
 
 namespace hlod {
 

@@ -7,8 +7,8 @@
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
-#include "hlod/city/Geodesy.h"
-#include "hlod/import/Epsg.h"
+#include "hlod/geodesy/Epsg.h"
+#include "hlod/geodesy/Geodesy.h"
 
 namespace hlod::import {
 

@@ -25,10 +25,10 @@
 #include <nlohmann/json.hpp>
 
 #include "hlod/JsonDepth.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Epsg.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "hlod/import/CityJsonPalette.h"
 #include "hlod/import/EarClip.h"
-#include "hlod/import/Epsg.h"
 #include "hlod/import/Import.h"
 #include "import/CityJsonFrame.h"
 #include "import/ImportUtil.h"

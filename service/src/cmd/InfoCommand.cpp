@@ -11,7 +11,7 @@
 #include "cmd/Commands.h"
 #include "cmd/HierarchyInfo.h"
 #include "hlod/builder/HlodBuilder.h"
-#include "hlod/city/GeoReference.h"
+#include "hlod/geodesy/GeoReference.h"
 #include "hlod/import/Import.h"
 #include "hlod/store/NodeStore.h"
 #include "service/Args.h"

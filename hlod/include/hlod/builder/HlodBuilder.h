@@ -12,8 +12,8 @@
 // and the vertices a piece shares with the rest of the model are locked while simplifying:
 // neighbouring nodes meet on the same chain of input edges at every level. Textures are cropped to
 // the node's texture-coordinate range and down-sampled by the same factor (side / sqrt(s), at least
-// kMinTextureSide pixels); where the crops of one level's nodes overlap, they share one texture,
-// stored once (kSharedTextureOverlap).
+// kMinTextureSide pixels: builder/TextureCrop.h); where the crops of one level's nodes overlap,
+// they share one texture, stored once (kSharedTextureOverlap).
 //
 // Out of core: blocks are added one at a time; a block's payloads go straight to payload.bin and
 // only the NodeInfo records stay in memory, so memory is bounded by the largest block.
@@ -30,7 +30,7 @@
 #include "hlod/builder/CityBlocks.h"
 #include "hlod/builder/ObjectHierarchy.h"
 #include "hlod/builder/Simplifier.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 #include "hlod/store/NodeStore.h"
 
 namespace hlod {
@@ -42,7 +42,6 @@ constexpr std::size_t kDefaultMaxBlockTriangles = 200000;
 // pixels), which leaves a 33 ms budget room to refine near the camera; with 2000 that frame took
 // about 30 ms and the budget could not be held.
 constexpr std::uint32_t kDefaultDesiredTri = 800;
-constexpr int kMinTextureSide = 8;
 // A piece is divided only when its children would hold this many triangles on average, and each
 // child holds at least this many, so that hierarchies do not end in crumbs: with leaves of ~400
 // triangles (as when a node's factor alone decided), a GPU pays a draw call per few hundred
@@ -133,27 +132,9 @@ std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles);
 // comparing it with the object hierarchy (HierarchyCriteria.h). The triangles keep their objects.
 HierarchyShape planeCutShape(const Model& model, const BuildOptions& options);
 
-// A rectangle of texels [x0, x1) x [y0, y1).
-struct TexelRect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  double area() const { return double(x1 - x0) * double(y1 - y0); }
-};
-// The texels that texCoords use, with one of margin: the whole texture when one of them lies
-// outside [0,1] (wrapping) or there are none.
-TexelRect usedTexels(const Image& texture, std::span<const glm::vec2> texCoords);
-
 // The nodes of one block, level and resolution share one texture when their own crops would add
 // up to more than this many times the area of their union (an atlas each node uses all over).
 constexpr double kSharedTextureOverlap = 1.5;
-
-// Crops a texture to the texel rectangle that texCoords (all in [0,1]) use, rewriting texCoords
-// to the crop, and box-filters it to about 1/sqrt(factor) of its side (at least kMinTextureSide
-// pixels, never enlarged). Texture coordinates outside [0,1] (wrapping) keep the whole texture.
-std::shared_ptr<const Image> prepareNodeTexture(const Image& texture,
-                                                std::vector<glm::vec2>& texCoords, double factor);
-
-// Box-filter resize of an RGBA8 image (OpenImageIO ImageBufAlgo::resize, "box" filter).
-Image resizeImage(const Image& image, int width, int height);
 
 struct BuildProgress {
   std::size_t blocksDone = 0;

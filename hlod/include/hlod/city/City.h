@@ -8,7 +8,7 @@
 // whatever the block count) has four blocks, one per side, each facing its street.
 //
 // Frame: city coordinates in metres, X east, Y north, Z up, ground at z = 0: the east-north-up
-// frame (hlod/city/Geodesy.h, WGS84) at the city's origin, the south-west corner of the first
+// frame (hlod/geodesy/Geodesy.h, WGS84) at the city's origin, the south-west corner of the first
 // grid cell, which for the procedural city is kCityOriginLat/kCityOriginLon at height 0.
 //
 // Generation is deterministic: the same (seed, index) gives the same block, bit for bit, on
@@ -23,7 +23,7 @@
 
 #include "hlod/Mesh.h"
 #include "hlod/Result.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 
 namespace hlod {
 

@@ -33,6 +33,8 @@
 // A city kind on a store that is not z-up is an Error naming the kind and suggesting orbit.
 // Streets are the gaps between the blocks' boxes projected on X and on Y; a model without gaps
 // uses lines just outside its bounds.
+// The spline is runtime/SteffenSpline.cpp, the JSON file runtime/CameraPathJson.cpp, and each
+// generator a file of runtime/paths/ (paths/PathGenerators.h says how to add one).
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -115,8 +117,10 @@ Result<CameraPath> makeOrbitPath(const Skeleton& skeleton, double duration = 30.
 // through its position, looking at the target, at its fov, once round in `duration` seconds (a
 // scene file's camera for a path job). An Error when the camera looks straight along the up axis.
 Result<CameraPath> makeOrbitPathFrom(const Camera& start, UpAxis up, double duration = 30.0);
-// "walk-fly", "drive" or "orbit".
+// "walk-fly", "drive" or "orbit": the generator of that kind (cameraPathKinds lists them).
 Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton);
+// The kinds makeCameraPath knows, in the order its messages list them.
+std::vector<std::string_view> cameraPathKinds();
 // The same keyframes with their times scaled about the start so that the path lasts `seconds`.
 Result<CameraPath> withDuration(const CameraPath& path, double seconds);
 

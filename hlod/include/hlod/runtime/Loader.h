@@ -32,6 +32,11 @@
 // buffer of the interrupted node is kept (keepPartial, at most maxPartials buffers, their bytes
 // count against capBytes) and the load resumes where it stopped if that node comes back; a kept
 // buffer is dropped first when memory is needed. keepPartial = false drops it at once.
+//
+// The parts, each in its file under hlod/src/runtime/loader/: LoadSchedule (priorities and the
+// next node), Eviction (what to unload), NodeMemory (a node's bytes), SharedTextures (texture
+// reference counts), PartialBuffers (loads in progress) and LinkEmulator (throttle and latency,
+// on LoaderParams::clock); Loader.cpp runs them, on its thread or step by step.
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -46,11 +51,19 @@
 #include <unordered_map>
 #include <vector>
 
+#include "hlod/runtime/LinkClock.h"
 #include "hlod/runtime/NodeCache.h"
 #include "hlod/runtime/Selector.h"
 #include "hlod/store/NodeSource.h"
 
 namespace hlod {
+
+class Eviction;
+class LinkEmulator;
+class LoadSchedule;
+class NodeMemory;
+class PartialBuffers;
+class SharedTextures;
 
 struct LoaderParams {
   std::size_t chunkBytes = 64 * 1024;  // bytes read per step (the paper's "small portion")
@@ -62,6 +75,9 @@ struct LoaderParams {
   // payload file (the next chunk of a node, or a sibling stored right after it) continues the
   // same request, as a sequential disk read or a streamed range request does.
   double ioLatencyMs = 0.0;
+  // The time of the emulated link (ioMbps, ioLatencyMs): null is the steady clock; a test's
+  // clock runs the link without sleeping.
+  std::shared_ptr<LinkClock> clock;
   // Requests in flight on the emulated link, as an HTTP/2 client or a disk queue keeps them:
   // while one node streams, the next ioRequests - 1 loadable nodes in priority order are
   // already requested, so their latency runs during that transfer (a node that drops out of
@@ -154,38 +170,15 @@ class Loader final : public Residency {
   bool waitUntilIdle(std::chrono::milliseconds timeout);
 
  private:
-  // What a load of the node reads, and what the node holds once decoded (without textures:
-  // less its texture section).
-  std::uint64_t readSizeOf(std::uint32_t node) const;
-  std::uint64_t memoryOf(std::uint32_t node) const;
-  // Shared textures (NodeInfo::textureOffset): nodes of one level may share one texture section.
-  // It is decoded once, held by every node that uses it, and counted once in residentBytes,
-  // while at least one resident node or load in progress holds it. hasTexture: the node has a
-  // texture this loader keeps.
-  bool hasTexture(std::uint32_t node) const;
-  bool textureHeldLocked(std::uint32_t node) const;
-  std::uint64_t chargeLocked(std::uint32_t node) const;  // what loading it adds to memory
+  // Holds or releases the node's shared texture section (SharedTextures), keeping residentBytes,
+  // where a section counts once.
   std::uint64_t holdTextureLocked(std::uint32_t node, const std::shared_ptr<const Image>& image);
   void releaseTextureLocked(std::uint32_t node);
 
-  struct Partial {
-    std::vector<std::byte> bytes;
-    std::uint64_t filled = 0;
-    std::uint64_t reserved = 0;  // its bytes in counters_.inFlightBytes
-    bool textureHeld = false;    // reads the mesh section only: its texture is held already
-    bool cacheReserved = false;  // its memoryBytes are reserved in params_.cache
-  };
-  struct SharedTexture {
-    std::shared_ptr<const Image> image;
-    std::uint32_t users = 0;  // resident nodes and loads in progress
-  };
-
-  double priorityOf(std::uint32_t node) const;  // -1 when neither wanted nor prefetched
   std::uint32_t chooseLocked();
+  // Unloads what Eviction picks so that the node fits; false (nothing unloaded) when it cannot.
   bool makeRoomLocked(std::uint32_t node, double priority);
-  bool neverFits(std::uint32_t node) const;  // larger than the cap less hlod_0
   void unloadLocked(std::uint32_t node);
-  bool hasResidentChildLocked(std::uint32_t node) const;
   void dropPartialLocked(std::uint32_t node);
   void finishLocked(std::uint32_t node, Result<LocalMesh> mesh);
   void adoptLocked(std::uint32_t node, std::shared_ptr<const LocalMesh> mesh);
@@ -193,8 +186,8 @@ class Loader final : public Residency {
   // decodePayload, with an allocation failure (a forged decoded size) as an Error.
   Result<LocalMesh> decodeGuarded(std::uint32_t node, std::span<const std::byte> bytes);
   bool stopRequested();
-  // Sleeps as the emulated link would for a read of len bytes at offset of node's payload;
-  // stop() ends the sleep at once.
+  // Waits as the emulated link would for a read of len bytes at offset of node's payload;
+  // stop() ends the wait at once.
   void throttle(std::uint32_t node, std::uint64_t offset, std::size_t len);
   // Requests the next ioRequests - 1 candidates after `chosen` (see LoaderParams::ioRequests).
   template <class Loadable>
@@ -204,25 +197,23 @@ class Loader final : public Residency {
   const NodeSource& source_;
   const Skeleton& skeleton_;
   LoaderParams params_;
+  // The loader's parts (hlod/src/runtime/loader/). memory_ is constant; link_'s stream position
+  // is the step's state (stepMutex_), its requests ahead are under mutex_; the others are under
+  // mutex_.
+  std::unique_ptr<NodeMemory> memory_;        // what a node reads and holds
+  std::unique_ptr<LinkEmulator> link_;        // throttle and latency
+  std::unique_ptr<SharedTextures> textures_;  // texture reference counts
+  std::unique_ptr<PartialBuffers> partials_;  // loads in progress
+  std::unique_ptr<LoadSchedule> schedule_;    // priorities and the order of loads
+  std::unique_ptr<Eviction> eviction_;        // what to unload to make room
 
-  mutable std::mutex mutex_;  // guards everything below except residentFlag_
+  mutable std::mutex mutex_;  // guards the parts above and everything below but residentFlag_
   std::unique_ptr<std::atomic<bool>[]> residentFlag_;
   std::vector<std::shared_ptr<const LocalMesh>> resident_;
   std::vector<std::uint8_t> isRoot_;
-  std::uint64_t rootBytes_ = 0;  // memoryBytes of hlod_0, resident for good after loadRoots
-  std::vector<double> below_;    // makeRoomLocked scratch
   std::vector<std::uint8_t> failed_;
-  std::unordered_map<std::uint32_t, double> wanted_;
-  std::unordered_map<std::uint32_t, double> prefetch_;
-  std::vector<std::pair<double, std::uint32_t>> order_;  // wanted non-resident, best first
-  bool orderDirty_ = true;
-  std::map<std::uint32_t, std::unique_ptr<Partial>> partials_;
-  std::unordered_map<std::uint64_t, SharedTexture> textures_;  // by NodeInfo::textureOffset
   std::uint32_t current_ = kNoNode;
   std::uint32_t lastFinished_ = kNoNode;  // the node whose load completed last
-  std::uint64_t streamEnd_ = ~0ull;       // payload.bin offset where the last read ended
-  // Nodes requested ahead on the emulated link, with the time their request went out.
-  std::unordered_map<std::uint32_t, std::chrono::steady_clock::time_point> issued_;
   std::vector<LoaderEvent> events_;
   LoaderCounters counters_;
   std::string lastError_;

@@ -1,15 +1,18 @@
 // writePly: binary little-endian PLY with double positions, the exchange format between the city
-// generator and the importer.
-#include "hlod/import/PlyWriter.h"
+// generator and the importer (import/PlyReader.cpp reads it back).
+#include "hlod/export/PlyWriter.h"
 
 #include <bit>
 #include <cstdio>
 #include <cstring>
 
-#include "import/ImportUtil.h"
-
 namespace hlod {
 namespace {
+
+// "PATH: what", as the readers' errors: the file first.
+Error fileError(const std::filesystem::path& path, const std::string& what) {
+  return makeError(path.string() + ": " + what);
+}
 
 template <class T>
 void put(std::string& out, T value) {
@@ -24,7 +27,6 @@ void put(std::string& out, T value) {
 
 Status writePly(const std::filesystem::path& path, const Mesh& mesh,
                 const std::string& textureFileName) {
-  using import::fileError;
   const std::size_t n = mesh.positions.size();
   const bool normals = !mesh.normals.empty();
   const bool uvs = !mesh.texCoords.empty();

@@ -1,7 +1,7 @@
 // writeImageFile: OpenImageIO encodes into memory, the bytes go to disk through checked stdio.
 // OIIO's own file output does not report a failed write or close (a PNG to a full disk "succeeded"
 // with exit 0), so it never touches the file itself.
-#include "hlod/import/ImageWriter.h"
+#include "hlod/export/ImageWriter.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>

@@ -1,5 +1,5 @@
-// WGS84 geodetic <-> ECEF <-> local ENU conversions (see hlod/city/Geodesy.h).
-#include "hlod/city/Geodesy.h"
+// WGS84 geodetic <-> ECEF <-> local ENU conversions (see hlod/geodesy/Geodesy.h).
+#include "hlod/geodesy/Geodesy.h"
 
 #include <cmath>
 

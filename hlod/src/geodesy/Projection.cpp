@@ -1,5 +1,6 @@
-// Which projected EPSG codes hlodr can turn into latitude and longitude (hlod/city/Projection.h).
-#include "hlod/city/Projection.h"
+// Which projected EPSG codes hlodr can turn into latitude and longitude
+// (hlod/geodesy/Projection.h).
+#include "hlod/geodesy/Projection.h"
 
 namespace hlod {
 

@@ -1,4 +1,5 @@
-#include "hlod/import/Epsg.h"
+// EPSG codes of reference-system strings and their kinds (hlod/geodesy/Epsg.h).
+#include "hlod/geodesy/Epsg.h"
 
 #include <algorithm>
 #include <cctype>

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hlod/city/Projection.h"
+#include "hlod/geodesy/Projection.h"
 
 namespace hlod {
 

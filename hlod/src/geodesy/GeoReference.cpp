@@ -1,10 +1,10 @@
-// A model's place on the earth (hlod/city/GeoReference.h).
-#include "hlod/city/GeoReference.h"
+// A model's place on the earth (hlod/geodesy/GeoReference.h).
+#include "hlod/geodesy/GeoReference.h"
 
 #include <cassert>
 #include <cstdio>
 
-#include "hlod/city/Projection.h"
+#include "hlod/geodesy/Projection.h"
 
 namespace hlod {
 

@@ -1,7 +1,7 @@
 #pragma once
 // Where a model's coordinates lie on the earth: in an east-north-up frame at an origin (a city
 // folder; a geographic or geocentric CityJSON, converted on import), in a projected CRS whose
-// inverse hlodr knows (RD New, UTM: hlod/city/Projection.h), or nowhere known (a mesh file, an
+// inverse hlodr knows (RD New, UTM: hlod/geodesy/Projection.h), or nowhere known (a mesh file, an
 // unknown projected CRS). Blocks get their latitude/longitude anchors through it, and the inputs
 // of a region are placed in one frame through ECEF with it.
 #include <optional>
@@ -10,7 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "hlod/Mesh.h"
-#include "hlod/city/Geodesy.h"
+#include "hlod/geodesy/Geodesy.h"
 
 namespace hlod {
 

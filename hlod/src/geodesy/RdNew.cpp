@@ -3,7 +3,7 @@
 // (RD -> WGS 84) or metres (WGS 84 -> RD); within about a metre over the Netherlands.
 #include <array>
 
-#include "hlod/city/Projection.h"
+#include "hlod/geodesy/Projection.h"
 
 namespace hlod {
 
