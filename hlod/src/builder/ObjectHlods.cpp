@@ -6,9 +6,11 @@
 // GAPS (Erikson and Manocha 1999), which merges disjoint objects; here vertex clustering does
 // that within Simplifier::simplifyUnion (HlodBuilder.h, addObjectHierarchy).
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <map>
+#include <thread>
 #include <tuple>
 #include <unordered_map>
 
@@ -137,13 +139,13 @@ Mesh leafMesh(const Model& model, const RedefinedObject& object,
   return out;
 }
 
-// The payload of a node and its record's measures.
-Status appendNode(NodeStoreWriter& writer, const Mesh& mesh, NodeInfo& info, double cTex) {
+// A node's payload, ready to append, and its record's measures.
+StoredPayload storeNode(const Mesh& mesh, NodeInfo& info, double cTex) {
   describeNode(info, mesh, cTex);
   LocalMesh local = localAround(mesh, info.centre);
   local.splats = makeSplats(local);
   info.splatCount = std::uint32_t(local.splats.size());
-  return writer.appendPayload(local, info);
+  return storePayload(local);
 }
 
 }  // namespace
@@ -173,47 +175,90 @@ Status HlodBuilder::addObjectHierarchy(
     n.level = tree[i].level;
     n.block = 0;
   }
-  // Children before parents: every child comes after its parent in the breadth-first order.
-  std::size_t done = 0;
-  for (std::size_t i = tree.size(); i-- > 0;) {
+  // A leaf's payload from the model; an inner node's from its children's (read back before).
+  const auto prepare = [&](std::size_t i, std::vector<LocalMesh> children) {
     NodeInfo& info = nodes[i];
     if (info.childCount == 0) {
       const Mesh mesh = leafMesh(model, hierarchy.objects[tree[i].object], byObject);
-      inputTriangles_ += mesh.triangleCount();
       info.bounds = mesh.bounds();
       info.centre = info.bounds.centre();
       info.geometricError = 0.0;
-      if (auto s = appendNode(*writer_, mesh, info, options_.cTex); !s) return s;
-    } else {
-      std::vector<LocalMesh> children;
-      std::uint64_t childTriangles = 0;
-      for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c) {
-        auto child = writer_->readBack(nodes[c]);
-        if (!child) return child.error();
-        children.push_back(std::move(*child));
-        info.bounds.extend(nodes[c].bounds);
-        info.geometricError = std::max(info.geometricError, nodes[c].geometricError);
-        childTriangles += nodes[c].numTri;
-      }
-      const ColouredMesh coloured = mergeCellChildren(children);
-      children.clear();
-      Mesh merged = weldVertices(coloured.mesh);
-      dropRepeatedTriangles(merged);
-      const std::size_t target = std::clamp<std::size_t>(
-          childTriangles / std::size_t(options_.levelFactor), options_.desiredTri,
-          std::max<std::size_t>(1, merged.triangleCount()));
-      const double factor = double(merged.triangleCount()) / double(target);
-      SimplifiedMesh simplified = simplifier_->simplifyUnion(
-          merged, target, {}, errorLimit(surfaceArea(merged), merged.triangleCount(), factor));
-      info.geometricError += simplified.geometricError;
-      // (A simplification that kept nothing leaves the children's triangles as they are.)
-      const Mesh mesh = flatColoured(simplified.mesh.triangleCount() > 0 ? simplified.mesh : merged,
-                                     coloured.colours);
-      info.bounds.extend(mesh.bounds());
-      info.centre = info.bounds.centre();
-      if (auto s = appendNode(*writer_, mesh, info, options_.cTex); !s) return s;
+      return storeNode(mesh, info, options_.cTex);
     }
-    if (progress) progress(++done, tree.size());
+    std::uint64_t childTriangles = 0;
+    for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c) {
+      info.bounds.extend(nodes[c].bounds);
+      info.geometricError = std::max(info.geometricError, nodes[c].geometricError);
+      childTriangles += nodes[c].numTri;
+    }
+    const ColouredMesh coloured = mergeCellChildren(children);
+    children.clear();
+    Mesh merged = weldVertices(coloured.mesh);
+    dropRepeatedTriangles(merged);
+    const std::size_t target = std::clamp<std::size_t>(
+        childTriangles / std::size_t(options_.levelFactor), options_.desiredTri,
+        std::max<std::size_t>(1, merged.triangleCount()));
+    const double factor = double(merged.triangleCount()) / double(target);
+    SimplifiedMesh simplified = simplifier_->simplifyUnion(
+        merged, target, {}, errorLimit(surfaceArea(merged), merged.triangleCount(), factor));
+    info.geometricError += simplified.geometricError;
+    // (A simplification that kept nothing leaves the children's triangles as they are.)
+    const Mesh mesh = flatColoured(simplified.mesh.triangleCount() > 0 ? simplified.mesh : merged,
+                                   coloured.colours);
+    info.bounds.extend(mesh.bounds());
+    info.centre = info.bounds.centre();
+    return storeNode(mesh, info, options_.cTex);
+  };
+  // Level by level from the deepest (children before parents), a window of nodes at a time:
+  // their children read back in order, the nodes prepared on every thread, then appended in
+  // order, so that the store is the same for any thread count and memory holds the window.
+  const unsigned threads =
+      options_.threads ? options_.threads : std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t window = 2 * std::size_t(threads);
+  std::uint32_t depth = 0;
+  for (const auto& n : tree) depth = std::max(depth, n.level);
+  std::vector<std::vector<std::size_t>> byLevel(std::size_t(depth) + 1);
+  for (std::size_t i = 0; i < tree.size(); ++i) byLevel[tree[i].level].push_back(i);
+  std::size_t done = 0;
+  for (std::size_t level = byLevel.size(); level-- > 0;) {
+    const std::vector<std::size_t>& at = byLevel[level];
+    for (std::size_t first = 0; first < at.size(); first += window) {
+      const std::size_t count = std::min(window, at.size() - first);
+      std::vector<std::vector<LocalMesh>> children(count);
+      for (std::size_t k = 0; k < count; ++k) {
+        const NodeInfo& info = nodes[at[first + k]];
+        for (std::uint32_t c = info.firstChild; c < info.firstChild + info.childCount; ++c) {
+          auto child = writer_->readBack(nodes[c]);
+          if (!child) return child.error();
+          children[k].push_back(std::move(*child));
+        }
+      }
+      std::vector<StoredPayload> payloads(count);
+      std::atomic<std::size_t> next{0};
+      std::vector<std::string> failed(count);  // an exception (bad_alloc) stops the build
+      const auto work = [&] {
+        for (std::size_t k; (k = next++) < count;) try {
+            payloads[k] = prepare(at[first + k], std::move(children[k]));
+          } catch (const std::exception& e) {
+            failed[k] = std::string("object hierarchy node ") + std::to_string(at[first + k]) +
+                        ": " + e.what();
+          }
+      };
+      std::vector<std::thread> workers;
+      for (unsigned t = 1; t < std::min<std::size_t>(threads, count); ++t)
+        workers.emplace_back(work);
+      work();
+      for (std::thread& w : workers) w.join();
+      for (const std::string& f : failed)
+        if (!f.empty()) return makeError(f);
+      for (std::size_t k = 0; k < count; ++k) {
+        NodeInfo& info = nodes[at[first + k]];
+        if (info.childCount == 0) inputTriangles_ += info.numTri;
+        if (auto s = writer_->appendStored(payloads[k], info); !s) return s;
+        payloads[k] = {};
+        if (progress) progress(++done, tree.size());
+      }
+    }
   }
   skeleton_.nodes = std::move(nodes);
   skeleton_.roots = {0};
