@@ -1,7 +1,8 @@
-// `hlodr path STORE --kind walk-fly|drive|orbit -o PATH.json`: a camera path for a node store,
+// `hlodr path STORE --kind KIND -o PATH.json`: a camera path for a node store,
 // and `hlodr render STORE --path PATH.json -o OUT`: a path run through a Session.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -19,7 +20,8 @@ namespace service::cmd {
 namespace fs = std::filesystem;
 
 const char* const kPathUsage =
-    "usage: hlodr path STORE --kind walk-fly|drive|orbit -o PATH.json [--duration S]\n"
+    "usage: hlodr path STORE --kind walk-fly|drive|orbit|fly-around|catwalk -o PATH.json\n"
+    "                  [--duration S]\n"
     "\n"
     "Writes a camera path (JSON keyframes: time, position, target, up, fov) for the model in the\n"
     "node STORE (made by `hlodr build`). Render it with `hlodr render STORE --path PATH.json`.\n"
@@ -28,7 +30,10 @@ const char* const kPathUsage =
     "  --kind K                walk-fly: a street-level walk rising into a fly-over (35 s);\n"
     "                          drive: a loop along streets at 1.5 m (both for z-up cities);\n"
     "                          orbit: a circle around the store's up axis, framing the model\n"
-    "                          (30 s)\n"
+    "                          (30 s); fly-around: a loop around the model's box, outside it\n"
+    "                          (40 s); catwalk: a walk at eye height along the catwalks of a\n"
+    "                          CAD scene, found in its full-detail geometry (40 s at most;\n"
+    "                          docs/objects.md)\n"
     "  -o, --output PATH.json  output file (required)\n"
     "  --duration S            stretch or shrink the path to S seconds\n";
 
@@ -59,8 +64,11 @@ int runPath(const Argv& argv) {
   auto duration = args->number("duration", 0.0, 0.1, 1e6);
   if (!duration) return usageError("path", duration.message());
   const std::string kind = args->get("kind", "");
-  if (kind != "walk-fly" && kind != "drive" && kind != "orbit")
-    return usageError("path", "--kind must be walk-fly, drive or orbit (not '" + kind + "')");
+  const auto kinds = hlod::cameraPathKinds();
+  if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end())
+    return usageError(
+        "path",
+        "--kind must be walk-fly, drive, orbit, fly-around or catwalk (not '" + kind + "')");
 
   const fs::path storePath = args->positionals()[0];
   if (!isStore(storePath)) {
@@ -76,7 +84,7 @@ int runPath(const Argv& argv) {
                  store.message().c_str());
     return 1;
   }
-  auto path = hlod::makeCameraPath(kind, (*store)->skeleton());
+  auto path = hlod::makeCameraPath(kind, **store);
   if (!path) {
     std::fprintf(stderr, "hlodr path: %s\n", path.message().c_str());
     return 1;

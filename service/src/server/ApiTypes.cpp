@@ -89,7 +89,7 @@ ApiResult<nlohmann::json> readPathSpec(const JsonInput& in) {
   if (path.is_object() && path.contains("kind")) {
     auto p = JsonInput::of(path, "path", {"kind", "duration"});
     if (!p) return badRequest(p.message());
-    auto kind = p->choice("kind", "", {"walk-fly", "drive", "orbit"});
+    auto kind = p->choice("kind", "", {"walk-fly", "drive", "orbit", "fly-around", "catwalk"});
     auto duration = p->number("duration", 0.0, 1.0, 3600.0);
     if (!kind) return badRequest(kind.message());
     if (!duration) return badRequest(duration.message());

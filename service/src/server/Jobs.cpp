@@ -229,7 +229,7 @@ ApiResult<std::shared_ptr<hlod::CameraPath>> JobManager::pathOf(const Scene& sce
       const double aspect = double(settings.render.width) / settings.render.height;
       path = hlod::makeOrbitPathFrom(scene.defaultCamera(aspect, settings.render.camera), sk.up);
     } else {
-      path = hlod::makeCameraPath(kind, sk);
+      path = hlod::makeCameraPath(kind, *scene.store);
     }
     if (path && settings.path.contains("duration"))
       path = hlod::withDuration(*path, settings.path["duration"].get<double>());
