@@ -57,7 +57,7 @@ hlod::Result<std::unique_ptr<VideoWriter>> VideoWriter::open(const std::filesyst
   char rate[32];
   std::snprintf(rate, sizeof rate, "%g", fps);
   // Niced and single-threaded: the encoder is background work and must not take the cores the
-  // frames are timed on (on 2 cores, a free-running libx264 put 11% of them over 1.25x).
+  // frames are timed on (a free-running libx264 pushes real-time frames over their budget).
   const std::string cmd = "nice -n 19 ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " +
                           std::to_string(width) + "x" + std::to_string(height) + " -r " + rate +
                           " -i - -c:v libx264 -preset veryfast -threads 1 -pix_fmt yuv420p " +

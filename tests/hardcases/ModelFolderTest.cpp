@@ -1,6 +1,6 @@
-// Files a model refers to are read only from inside its folder (DESIGN.md, Formats): OBJ mtllib,
-// MTL map_Kd, PLY TextureFile, glTF buffer and image URIs, city blocks. They were once opened
-// wherever they pointed, a glTF error reported the outside file's size, and a glTF buffer
+// Files a model refers to are read only from inside its folder (docs/architecture.md, Formats): OBJ
+// mtllib, MTL map_Kd, PLY TextureFile, glTF buffer and image URIs, city blocks. They were once
+// opened wherever they pointed, a glTF error reported the outside file's size, and a glTF buffer
 // missing beside the file was looked up in the current directory. An outside texture is a
 // warning (drawn without it), an outside buffer an error; neither says anything about the
 // outside file.

@@ -3,7 +3,7 @@
 //
 // Coordinates: world positions are doubles (Mesh). A LocalMesh keeps float positions relative to
 // its own double-precision centre: this is what nodes store and what the renderer uploads, so a
-// model far from the origin keeps full precision (see DESIGN.md, Coordinates).
+// model far from the origin keeps full precision (docs/architecture.md, Formats: Coordinates).
 //
 // Texture coordinates follow glTF: (0,0) is the top-left of the image, v grows downwards; Image
 // row 0 is the top row. Importers of formats with v up (OBJ, PLY) flip v.

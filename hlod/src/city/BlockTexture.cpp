@@ -67,8 +67,9 @@ class Painter {
       }
   }
 
-  // Fine variation in metres (0.4 m lattice), not per pixel: per-pixel noise made the PNGs 3x
-  // larger and PNG encoding 2.4x slower, and cannot be seen at 10-20 texels a metre anyway.
+  // Fine variation in metres (0.4 m lattice), not per pixel: per-pixel noise does not compress,
+  // so it makes the PNGs larger and their encoding slower, and cannot be seen at 10-20 texels a
+  // metre anyway.
   float grain(double a, double b) const {
     return static_cast<float>(valueNoise(seed_, a * 2.5, b * 2.5));
   }

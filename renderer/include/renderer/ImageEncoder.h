@@ -1,6 +1,7 @@
 #pragma once
 // Frames encoded in memory, for HTTP answers and job frames: PNG (own writer on libdeflate,
-// fast levels: a 640x480 frame in a few ms) and JPEG (libjpeg-turbo). RGBA8 in, alpha dropped.
+// fast levels, so that encoding stays small beside the frame) and JPEG (libjpeg-turbo). RGBA8 in,
+// alpha dropped.
 #include <cstdint>
 #include <string>
 #include <vector>

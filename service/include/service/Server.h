@@ -1,6 +1,6 @@
 #pragma once
 // `hlodr serve`: the HTTP API of docs/api.md and the web page, over the node stores of a data
-// folder. One process, many viewing sessions (DESIGN.md "The service"):
+// folder. One process, many viewing sessions (docs/architecture.md, "The service"):
 //   HTTP threads (cpp-httplib, a pool sized here) parse and validate, then post to
 //   render workers 1..N (a GL context each, the sessions bound to it) and wait for their answer;
 //   job runners (a GL context each) render path jobs, so long jobs never hold up frames.

@@ -33,7 +33,7 @@ const char* const kBuildUsage =
     "blocks by a square grid of --block-size metres over its x/y coordinates (cells at whole\n"
     "multiples of it): each building whole in the cell its footprint centre (the centre of its\n"
     "x-y box) lies in. A mesh file is one block. Each block is then grouped by material\n"
-    "(CityJSON: by colour, see README) and cut along its longest axis into pieces of at most\n"
+    "(CityJSON: by colour, see docs/cli.md) and cut along its longest axis into pieces of at most\n"
     "--max-block-tri triangles; each piece is one hlod_0 node.\n"
     "Quadtree (Parry et al. sec. 3): each block is anchored at the latitude/longitude of its\n"
     "centre (city folders: the manifest's anchors; CityJSON: through its CRS, geographic,\n"

@@ -151,7 +151,7 @@ hlod::Result<std::unique_ptr<Server>> Server::create(const ServerOptions& o, Log
   m.http.set_write_timeout(10, 0);
   m.http.set_keep_alive_max_count(1000);
   // A frame goes out as headers then body: with Nagle's algorithm the body waits for the
-  // client's delayed ACK (40 ms on Linux), which doubled a JPEG frame's latency.
+  // client's delayed ACK (40 ms on Linux), on the order of the frame's own time.
   m.http.set_tcp_nodelay(true);
   m.http.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
     requestStart = Clock::now();

@@ -37,10 +37,9 @@ namespace hlod {
 
 // A mesh file is cut into blocks of at most this many triangles before the HLOD is built.
 constexpr std::size_t kDefaultMaxBlockTriangles = 200000;
-// 800: the default city's hlod_0 nodes then hold about 52k triangles. On llvmpipe at 1280x720 a
-// street-level frame of the ~48 visible hlod_0 nodes takes about 21 ms (most of it filling
-// pixels), which leaves a 33 ms budget room to refine near the camera; with 2000 that frame took
-// about 30 ms and the budget could not be held.
+// 800: a street-level frame of the visible hlod_0 nodes (the coarsest the selector can draw)
+// must leave a 33 ms budget on llvmpipe at 1280x720 room to refine near the camera; with 2000
+// it did not, and the budget could not be held (docs/results.md, the builder).
 constexpr std::uint32_t kDefaultDesiredTri = 800;
 // A piece is divided only when its children would hold this many triangles on average, and each
 // child holds at least this many, so that hierarchies do not end in crumbs: with leaves of ~400
@@ -52,8 +51,8 @@ constexpr double kDefaultCTex = 0.6;
 
 enum class CellMode { Auto, On, Off };
 // Above this many hlod_0 triangles in all, Auto builds cell nodes: about what a 33 ms frame
-// draws on llvmpipe (6-7 M triangles/s), so a view of every block at hlod_0 no longer fits the
-// budget. Below it cells would only add a selection level (the default city: 51-124 k).
+// draws on llvmpipe, so a view of every block at hlod_0 no longer fits the budget. Below it
+// cells would only add a selection level (the default city's hlod_0 is under it).
 constexpr std::uint64_t kCellTriangles = 200000;
 
 // An axis-aligned plane p[axis] == value: where a block's ground meets its neighbour's, or where

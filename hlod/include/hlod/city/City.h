@@ -32,8 +32,8 @@ inline constexpr int kDefaultCityBlocks = 64;
 inline constexpr int kMaxCityBlocks = 100000;
 inline constexpr std::uint64_t kDefaultCitySeed = 1;
 // Texels per side of a block's texture (~6-8 texels a metre of facade). Painting and PNG encoding
-// are most of writeCity's time: at 512 it writes ~0.5 M triangles per CPU-second (one worker per
-// core), at 1024 about a third of that.
+// are most of writeCity's time, and grow with the texels: a larger default would slow the city
+// down more than it shows.
 inline constexpr int kDefaultCityTextureSize = 512;
 // Geographic anchor of the city origin (Berkeley, as the paper's scanned city).
 inline constexpr double kCityOriginLat = 37.87;
@@ -66,9 +66,9 @@ struct CityProgress {
 };
 using CityProgressFn = std::function<void(const CityProgress&)>;
 
-// About how many bytes writeCity writes for `options`, erring high: per block 2.4 MB of PLY
-// (2.33 MB measured on the default city's blocks) and 1.3 bytes of PNG a texel (1.0-1.25
-// measured at 512 and 1024), plus the manifest.
+// About how many bytes writeCity writes for `options`, erring high (a refusal must not come too
+// late): per block 2.4 MB of PLY and 1.3 bytes of PNG a texel, a little above what the default
+// city's blocks take, plus the manifest.
 std::uint64_t estimateCityBytes(const CityOptions& options);
 
 // Writes dir/city.json and, per block, dir/block_NNNN.ply (hlod::writePly, binary, double

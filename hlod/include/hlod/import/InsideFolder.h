@@ -1,7 +1,7 @@
 #pragma once
 // Confines the files a model refers to (materials, textures, buffers, city blocks) to the model's
 // own folder: a model from someone else must not make hlodr read, or report on, other files of
-// the machine (DESIGN.md, Formats).
+// the machine (docs/architecture.md, Formats).
 #include <filesystem>
 #include <string>
 

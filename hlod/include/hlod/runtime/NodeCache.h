@@ -1,7 +1,8 @@
 #pragma once
-// Decoded node payloads shared by the viewing sessions of a server (DESIGN.md "The service"):
-// a node that one session has decoded is handed to the next session that wants it without a
-// second read or decode, and the decoded bytes of all sessions together stay under one cap.
+// Decoded node payloads shared by the viewing sessions of a server (docs/architecture.md, "The
+// service"): a node that one session has decoded is handed to the next session that wants it
+// without a second read or decode, and the decoded bytes of all sessions together stay under one
+// cap.
 //
 // Reference counted: a payload stays alive while any session holds it (its Loader's resident
 // set, a queued upload) and, once none does, while the cache keeps it among its recently used

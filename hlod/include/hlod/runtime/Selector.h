@@ -139,10 +139,10 @@ struct LakhiaParams {
   // Slices are capped at c_demandMargin times the need of the node's leaves (see sliceSiblings).
   double c_demandMargin = 1.5;
   // The selector aims at c_aim * c_targetTime (an addition): the slices share that, and the
-  // budget fill's band is relative to it. The trade-off of the walk benchmark (lakhia without
-  // prefetch, unthrottled and throttled): at 1, median |actual - target| / target 0.054-0.095
-  // and 0.5-2.5% of frames over 1.25x the target (18 runs); at 0.97, 0.082-0.106 and 0.8-1.7%
-  // (6 runs). On a 2-core VM the run-to-run spread is as large as that difference.
+  // budget fill's band is relative to it. Below 1 the median frame sits further under the
+  // target and fewer frames go over it: a trade-off whose measured difference (walk_bench,
+  // docs/results.md) is about as large as the run-to-run spread on a 2-core machine, so the
+  // default aims at the target itself.
   double c_aim = 1.0;
   // Budget fill after the walk (see LakhiaSelector::fillBudget): hysteresis band on the frame
   // total. New refinements are made only below (1 - c_fillAdd) of the aim, judged by the larger

@@ -2,7 +2,7 @@
 // The node store on disk, NAME.hlod/ (a folder), written by the HLOD builder:
 //   skeleton.bin  the Skeleton (every NodeInfo field), build parameters and a checksum; loaded
 //   whole. payload.bin   the node payloads, one after another, each compressed with raw DEFLATE
-//   (a third of the bytes to read on the default city), read on demand in chunks with pread.
+//   (fewer bytes to read and to send), read on demand in chunks with pread.
 // Formats (little-endian; each versioned, every count and offset bounds-checked on read):
 //   skeleton.bin: "HLODSKEL", u32 version, u32 0x01020304, build params, store facts, the model
 //     frame (u32 up axis 0/1/2 for x/y/z, i32 EPSG code, u32 toEnu 0/1, f64 origin lat, lon,
