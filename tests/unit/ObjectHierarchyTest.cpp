@@ -153,6 +153,46 @@ TEST(ObjectPartition, SplitsALongObjectByItsPolygonsUntilWithinTheLimits) {
   EXPECT_EQ(partitionTopDown(slab, {100, 10.0}).size(), 1u);
 }
 
+TEST(ObjectPartition, AGroupTheHeuristicCannotShrinkIsSplitAcrossItsLongestSide) {
+  // Two rows of overlapping strips 30 long, staggered 10 apart along x (0..100), at y 0 and 3.
+  // Along y the halves do not overlap, so the heuristic picks y; but each half is still 100 long.
+  // Across x the halves shrink, so the group is split there instead of staying whole.
+  std::vector<PartitionItem> strips;
+  for (double y : {0.0, 3.0})
+    for (int i = 0; i < 8; ++i) strips.push_back(item({10.0 * i, y, 0}, {10.0 * i + 30, y + 1, 1}));
+  const std::vector<std::uint32_t> all = [&] {
+    std::vector<std::uint32_t> v(strips.size());
+    std::iota(v.begin(), v.end(), 0u);
+    return v;
+  }();
+  const auto first = splitInTwo(strips, all, SplitAt::CentreOfMass);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->axis, 1);
+  const auto across = splitInTwo(strips, all, SplitAt::CentreOfMass, 0);
+  ASSERT_TRUE(across);
+  EXPECT_EQ(across->axis, 0);
+  const auto groups = partitionTopDown(strips, {100000, 60.0});
+  EXPECT_GE(groups.size(), 2u);
+  for (const auto& g : groups) EXPECT_LE(boxOf(strips, g).size().x, 60.0);
+}
+
+TEST(SplitAxis, AFlatGridIsSplitAlongItsLongerSpreadWhenTheAreasTie) {
+  // 10 x 4 tiles of 0.1 in the plane z = 0: both axes give halves without overlap and, but for
+  // rounding, the same summed area; the tie goes to x, the longer spread.
+  std::vector<PartitionItem> tiles;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 10; ++i)
+      tiles.push_back(item({0.1 * i, 0.1 * j, 0.0}, {0.1 * (i + 1), 0.1 * (j + 1), 0.0}));
+  std::vector<std::uint32_t> all(tiles.size());
+  std::iota(all.begin(), all.end(), 0u);
+  for (SplitAt at : {SplitAt::CentreOfMass, SplitAt::Median}) {
+    const auto s = splitInTwo(tiles, all, at);
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->axis, 0);
+    EXPECT_EQ(s->lower.size(), 20u);
+  }
+}
+
 TEST(ObjectHierarchy, OneLongObjectIsSplitAndSmallOnesAreClustered) {
   Model model;
   addObject(model, tube(0.0, 200.0, 1.0, 12, 0.5), glm::vec4(0.2f, 0.6f, 0.2f, 1.0f));

@@ -38,14 +38,20 @@ std::vector<std::vector<std::uint32_t>> partitionTopDown(std::span<const Partiti
     std::optional<Split> split;
     if (group.size() > 1 && exceedsLimits(items, group, limits)) {
       split = splitInTwo(items, group, SplitAt::CentreOfMass);
-      if (split) {
-        std::uint64_t triangles = 0;
-        for (std::uint32_t i : group) triangles += items[i].triangles;
-        // Over the extent only: a split that leaves a half as long as the group shrinks nothing.
-        const double side = longestSide(boxOf(items, group));
-        const bool shrinks = std::max(longestSide(boxOf(items, split->lower)),
-                                      longestSide(boxOf(items, split->upper))) < side;
-        if (triangles <= limits.maxTriangles && !shrinks) split.reset();
+      std::uint64_t triangles = 0;
+      for (std::uint32_t i : group) triangles += items[i].triangles;
+      // Over the extent only: a split that leaves a half as long as the group shrinks nothing;
+      // across the group's longest side then, or not at all (polygons spanning it all).
+      const Aabb box = boxOf(items, group);
+      const auto shrinks = [&](const Split& s) {
+        return std::max(longestSide(boxOf(items, s.lower)), longestSide(boxOf(items, s.upper))) <
+               longestSide(box);
+      };
+      if (split && triangles <= limits.maxTriangles && !shrinks(*split)) {
+        const glm::dvec3 size = box.size();
+        const int longest = size.x >= size.y && size.x >= size.z ? 0 : size.y >= size.z ? 1 : 2;
+        split = splitInTwo(items, group, SplitAt::CentreOfMass, longest);
+        if (split && !shrinks(*split)) split.reset();
       }
     }
     if (!split) {

@@ -24,8 +24,9 @@ bool exceedsLimits(std::span<const PartitionItem> items, std::span<const std::ui
 
 // Splits the items top down (splitInTwo at the centre of mass, SplitAt::CentreOfMass) until each
 // group is within the limits, holds one item, or cannot be split: every centre the same point,
-// or a group over the extent only whose halves would be as large as it (polygons spanning it all,
-// as the two triangles of a floor slab do). Groups in depth-first order, lower half first; the
+// or a group over the extent only whose halves would be as large as it, along the heuristic's
+// axis and across its longest side both (polygons spanning it all, as the two triangles of a
+// floor slab do). Groups in depth-first order, lower half first; the
 // item indices of each ascending. No item is dropped or repeated.
 std::vector<std::vector<std::uint32_t>> partitionTopDown(std::span<const PartitionItem> items,
                                                          const PartitionLimits& limits);

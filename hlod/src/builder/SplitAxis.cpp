@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <numeric>
 #include <tuple>
 
@@ -58,7 +59,7 @@ Aabb boxOf(std::span<const PartitionItem> items, std::span<const std::uint32_t> 
 }
 
 std::optional<Split> splitInTwo(std::span<const PartitionItem> items,
-                                std::span<const std::uint32_t> subset, SplitAt at) {
+                                std::span<const std::uint32_t> subset, SplitAt at, int only) {
   if (subset.size() < 2) return std::nullopt;
   Aabb centres;
   for (std::uint32_t i : subset) {
@@ -67,17 +68,27 @@ std::optional<Split> splitInTwo(std::span<const PartitionItem> items,
   }
   const glm::dvec3 spread = centres.size();
   std::optional<Split> best;
-  std::tuple<double, double, double> bestScore{};
+  double bestOverlap = 0.0, bestArea = 0.0, bestSpread = 0.0;
+  // Equal within rounding: the halves of a flat grid have the same areas along either axis, and
+  // the tie must go to the longer spread, not to the last bit.
+  const auto less = [](double a, double b) {
+    return a < b - 1e-9 * std::max(std::abs(a), std::abs(b));
+  };
   for (int axis = 0; axis < 3; ++axis) {
-    if (!(spread[axis] > 0.0)) continue;
+    if (!(spread[axis] > 0.0) || (only >= 0 && axis != only)) continue;
     std::optional<Split> s = splitAlong(items, subset, axis, at);
     if (!s) continue;
     const Aabb lo = boxOf(items, s->lower), hi = boxOf(items, s->upper);
-    const std::tuple<double, double, double> score{
-        overlapVolume(lo, hi), surfaceArea(lo) + surfaceArea(hi), -spread[axis]};
-    if (!best || score < bestScore) {
+    const double overlap = overlapVolume(lo, hi), area = surfaceArea(lo) + surfaceArea(hi);
+    const bool better =
+        !best || less(overlap, bestOverlap) ||
+        (!less(bestOverlap, overlap) &&
+         (less(area, bestArea) || (!less(bestArea, area) && spread[axis] > bestSpread)));
+    if (better) {
       best = std::move(s);
-      bestScore = score;
+      bestOverlap = overlap;
+      bestArea = area;
+      bestSpread = spread[axis];
     }
   }
   return best;

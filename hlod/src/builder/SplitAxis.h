@@ -38,10 +38,11 @@ struct Split {
 // index order), one item at least on each side. The heuristics for the axis,
 // over the axes along which the centres spread: the halves' boxes overlapping least (criterion 3
 // of sec. 2.1.1), then the smaller sum of their boxes' surface areas (tight boxes), then the
-// longest extent of the centres. Nothing when every centre is the same point, or subset has fewer
-// than two items.
+// longest extent of the centres (scores within rounding of each other are equal). only >= 0:
+// that axis alone. Nothing when every centre is the same point (along `only`), or subset has
+// fewer than two items.
 std::optional<Split> splitInTwo(std::span<const PartitionItem> items,
-                                std::span<const std::uint32_t> subset, SplitAt at);
+                                std::span<const std::uint32_t> subset, SplitAt at, int only = -1);
 
 // The box of the items of subset.
 Aabb boxOf(std::span<const PartitionItem> items, std::span<const std::uint32_t> subset);
