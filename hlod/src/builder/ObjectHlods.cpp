@@ -25,6 +25,9 @@ namespace hlod {
 
 namespace {
 
+// An HLOD corner keeps its input normal within 45 degrees of its face (CellColours.h).
+constexpr float kSmoothCos = 0.7071f;
+
 struct Material {
   const Image* texture;
   float r, g, b, a;
@@ -204,7 +207,7 @@ Status HlodBuilder::addObjectHierarchy(
     info.geometricError += simplified.geometricError;
     // (A simplification that kept nothing leaves the children's triangles as they are.)
     const Mesh mesh = flatColoured(simplified.mesh.triangleCount() > 0 ? simplified.mesh : merged,
-                                   coloured.colours);
+                                   coloured.colours, kSmoothCos);
     info.bounds.extend(mesh.bounds());
     info.centre = info.bounds.centre();
     return storeNode(mesh, info, options_.cTex);
