@@ -44,26 +44,30 @@ class Grid {
     }
   }
 
-  // Calls f(j) for every item whose box may lie within r of `box` (some more than once).
+  // Calls f(j) for every item whose box may lie within r of `box` (some more than once), until
+  // f returns true.
   template <class F>
   void near(const Aabb& box, double r, F&& f) const {
     Aabb q = box;
     q.min -= glm::dvec3(r);
     q.max += glm::dvec3(r);
     const auto [lo, hi] = range(q);
-    for (std::uint32_t j : large_) f(j);
+    for (std::uint32_t j : large_)
+      if (f(j)) return;
     if (count(lo, hi) > std::int64_t(cells_.size())) {
       for (const auto& [key, list] : cells_)
         if (key.x >= lo.x && key.x <= hi.x && key.y >= lo.y && key.y <= hi.y && key.z >= lo.z &&
             key.z <= hi.z)
-          for (std::uint32_t j : list) f(j);
+          for (std::uint32_t j : list)
+            if (f(j)) return;
       return;
     }
     for (std::int64_t x = lo.x; x <= hi.x; ++x)
       for (std::int64_t y = lo.y; y <= hi.y; ++y)
         for (std::int64_t z = lo.z; z <= hi.z; ++z)
           if (auto it = cells_.find({x, y, z}); it != cells_.end())
-            for (std::uint32_t j : it->second) f(j);
+            for (std::uint32_t j : it->second)
+              if (f(j)) return;
   }
   double sceneDiagonal() const { return glm::length(scene_.size()); }
 
@@ -129,13 +133,18 @@ std::vector<Edge> nearestNeighbourGraph(std::span<const PartitionItem> items, in
     for (double r = h;; r *= 2.0) {
       found.clear();
       ++query;
+      // Enough touching neighbours (gap 0, none nearer) end the query: a pile of objects in one
+      // cell would otherwise make the graph quadratic. Their tie-break is then the grid's order.
+      std::size_t touching = 0;
       grid.near(items[i].box, r, [&](std::uint32_t j) {
-        if (j == i || stamp[j] == query) return;
+        if (j == i || stamp[j] == query) return false;
         stamp[j] = query;
         const double w = boxGap(items[i].box, items[j].box);
         if (w <= r)
           found.push_back(
               {w, glm::length(items[i].centre - items[j].centre), std::min(i, j), std::max(i, j)});
+        if (w == 0.0) ++touching;
+        return touching >= std::size_t(neighbours);
       });
       if (found.size() >= std::size_t(neighbours) || r > diagonal) break;
     }
