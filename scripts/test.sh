@@ -17,6 +17,8 @@ if command -v npm >/dev/null; then
   # The 3D Tiles viewers' test (tests/tiles/): glTF-Validator, 3DTilesRendererJS, three.js and
   # CesiumJS from the npm registry, pinned by its lock file.
   (cd tests/tiles && { npm ls >/dev/null 2>&1 || npm ci --no-audit --no-fund; })
+  # The glTF validator of the plant test, kept in tests/plant/vendor/ likewise.
+  (cd tests/plant && { npm ls --offline >/dev/null 2>&1 || npm ci --offline --no-audit --no-fund; })
 else
   echo "test: no npm, the browser tests (web.page, tiles.viewers) will be skipped"
 fi

@@ -120,12 +120,16 @@ function offerSceneFiles(files) {
   picker.disabled = files.length === 0;
 }
 
-// Walk-fly and drive follow a z-up street grid (the API refuses them elsewhere): other stores
-// are offered the orbit only.
+// Walk-fly and drive follow a z-up street grid (the API refuses them elsewhere); the catwalk
+// walk and the fly-around are for CAD scenes (mesh and glTF stores, not z-up), which start on the
+// catwalk walk. The orbit is offered everywhere.
+const cityKinds = ['walk-fly', 'drive', 'orbit'];
+const sceneKinds = ['catwalk', 'fly-around', 'orbit'];
 function offerPathKinds(zUp) {
+  const kinds = zUp ? cityKinds : sceneKinds;
   for (const select of [$('#path-kind'), document.querySelector('[name="study-path"]')]) {
-    for (const option of select.options) option.disabled = !zUp && option.value !== 'orbit';
-    if (select.selectedOptions[0] && select.selectedOptions[0].disabled) select.value = 'orbit';
+    for (const option of select.options) option.disabled = !kinds.includes(option.value);
+    if (select.selectedOptions[0] && select.selectedOptions[0].disabled) select.value = kinds[0];
   }
 }
 

@@ -1,5 +1,6 @@
 #include "hlod/Mesh.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace hlod {
@@ -20,6 +21,12 @@ Aabb Model::bounds() const {
   Aabb box;
   for (const auto& m : meshes) box.extend(m.bounds());
   return box;
+}
+
+std::size_t Model::objectCount() const {
+  std::size_t n = 0;
+  for (const ObjectRun& r : objectRuns) n = std::max<std::size_t>(n, std::size_t(r.object) + 1);
+  return objectRuns.empty() ? 1 : n;
 }
 
 std::vector<glm::vec3> computeVertexNormals(const std::vector<glm::dvec3>& positions,

@@ -17,6 +17,8 @@ const std::vector<Command>& commands() {
   // One row per subcommand; the usage texts live beside each implementation.
   static const std::vector<Command> table = {
       {"city", "generate the procedural city (the default scene)", cmd::kCityUsage, cmd::runCity},
+      {"plant", "generate the procedural power plant (a CAD scene of many objects)",
+       cmd::kPlantUsage, cmd::runPlant},
       {"render", "render a frame of a mesh, city folder or node store", cmd::kRenderUsage,
        cmd::runRender},
       {"build", "build an HLOD node store from a mesh, glTF scene or city folder", cmd::kBuildUsage,

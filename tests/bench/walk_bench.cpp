@@ -9,7 +9,9 @@
 //
 // Run: ./walk_bench [STORE] [--frames N] [--memory-mb M] [--plots DIR] [--lakhia-only]
 //                   [--no-prefetch] [--unthrottled-only | --throttled-only]
-//                   [--params NAME=VALUE,...] [--io-requests N]
+//                   [--params NAME=VALUE,...] [--io-requests N] [--kind K | --path PATH.json]
+// --kind K: another generated path (`hlodr path --kind`: catwalk for the power plant), --path
+// a path file, instead of the walk-fly.
 // --plots DIR keeps each run's stats.json/csv and the three plots in DIR/RUN/.
 // Without STORE the default city is generated and built under ./walk_bench_data (once).
 #include <algorithm>
@@ -77,6 +79,7 @@ int main(int argc, char** argv) {
   std::filesystem::path plots;
   std::size_t ioRequests = 4;   // requests in flight on the throttled link
   hlod::SelectorParams params;  // --params: the selector constants (see hlodr render --params)
+  std::string kind = "walk-fly", pathFile;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--frames" && i + 1 < argc) {
@@ -102,12 +105,17 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "walk_bench: %s\n", p.message().c_str());
         return 2;
       }
+    } else if (a == "--kind" && i + 1 < argc) {
+      kind = argv[++i];
+    } else if (a == "--path" && i + 1 < argc) {
+      pathFile = argv[++i];
     } else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr,
                    "usage: walk_bench [STORE] [--frames N] [--memory-mb M] [--plots DIR]\n"
                    "                  [--lakhia-only] [--no-prefetch]\n"
                    "                  [--unthrottled-only | --throttled-only]\n"
-                   "                  [--params NAME=VALUE,...] [--io-requests N]\n");
+                   "                  [--params NAME=VALUE,...] [--io-requests N]\n"
+                   "                  [--kind K | --path PATH.json]\n");
       return 2;
     } else {
       store = a;
@@ -124,7 +132,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", skeleton.message().c_str());
     return 1;
   }
-  auto path = hlod::makeWalkFlyPath((*skeleton)->skeleton());
+  auto path =
+      pathFile.empty() ? hlod::makeCameraPath(kind, **skeleton) : hlod::CameraPath::read(pathFile);
   if (!path) {
     std::fprintf(stderr, "%s\n", path.message().c_str());
     return 1;
@@ -136,8 +145,8 @@ int main(int argc, char** argv) {
   base.budgetMs = 33.0;
   base.memoryCapBytes = std::uint64_t(memoryMb * 1024 * 1024);
   base.selectorParams = params;
-  std::printf("walk-fly %.1f s at 30 fps, 1280x720, budget 33 ms, realtime, cap %.0f MB\n",
-              path->duration(), memoryMb);
+  std::printf("%s %.1f s at 30 fps, 1280x720, budget 33 ms, realtime, cap %.0f MB\n",
+              pathFile.empty() ? kind.c_str() : pathFile.c_str(), path->duration(), memoryMb);
   std::printf("%-30s %6s %7s %7s %7s %7s %7s %6s %7s %7s %7s %7s\n", "run", "mean", "med|d|",
               "p95|d|", ">tgt", ">1.25x", "p99/t", "stalls", "pk/cap", "tog/fr", "tri/fr",
               "crs/fr");

@@ -4,6 +4,7 @@
 // settings table, service/Settings.h). Every
 // body must give a validated request or a 400 naming the problem; what validated must be in the
 // ranges the workers rely on (finite cameras, sizes and budgets in range, a path that parses).
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -76,10 +77,10 @@ bool image(const JsonInput& in) {
 void path(const JsonInput& in) {
   auto spec = service::server::readPathSpec(in);
   if (!spec) return;
-  // Keyframes are parsed at the boundary; a generated kind is one of the three.
-  check(spec->kind.empty()
-            ? spec->keyframes != nullptr
-            : spec->kind == "walk-fly" || spec->kind == "drive" || spec->kind == "orbit");
+  // Keyframes are parsed at the boundary; a generated kind is one the generators know.
+  const auto kinds = hlod::cameraPathKinds();
+  check(spec->kind.empty() ? spec->keyframes != nullptr
+                           : std::find(kinds.begin(), kinds.end(), spec->kind) != kinds.end());
   if (spec->duration) check(within(*spec->duration, "duration"));
 }
 

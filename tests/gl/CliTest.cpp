@@ -261,20 +261,21 @@ TEST_F(HlodrCli, StudyBuildComparesTheSimplifiersPerLevelAndWritesJsonAndCsv) {
   std::ifstream csv(dir / "sb" / "build-study.csv");
   std::string header, line;
   std::getline(csv, header);
-  EXPECT_EQ(header.rfind("simplifier,buildSeconds,level,", 0), 0u) << header;
+  EXPECT_EQ(header.rfind("hierarchy,simplifier,buildSeconds,level,", 0), 0u) << header;
   int rows[2] = {0, 0};
   std::string last[2];
   while (std::getline(csv, line)) {
-    const int k = line.rfind("openmesh", 0) == 0 ? 1 : 0;
+    EXPECT_EQ(line.rfind("planes,", 0), 0u) << line;  // the default: --hierarchy planes
+    const int k = line.rfind("planes,openmesh", 0) == 0 ? 1 : 0;
     ++rows[k];
     last[k] = line;
   }
   EXPECT_GE(rows[0], 2);
   EXPECT_EQ(rows[0], rows[1]);  // both simplifiers, the same levels
-  // The deepest cut is the leaves, the original triangles: no distance (column 7, hausdorff).
+  // The deepest cut is the leaves, the original triangles: no distance (column 8, hausdorff).
   for (const std::string& l : last) {
     std::size_t at = 0;
-    for (int comma = 0; comma < 6; ++comma) at = l.find(',', at) + 1;
+    for (int comma = 0; comma < 7; ++comma) at = l.find(',', at) + 1;
     EXPECT_LT(std::stod(l.substr(at)), 1e-6) << l;
   }
   EXPECT_TRUE(fs::exists(dir / "sb" / "build-study.json"));

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -184,6 +185,26 @@ TEST(CellNodes, MergedChildrenCarryTheirMeanColoursIntoAFlatColouredPalette) {
     EXPECT_EQ(int(p[1]), t == 0 ? 0 : 255);
     EXPECT_EQ(int(p[2]), 0);
   }
+}
+
+TEST(CellNodes, FlatColouredKeepsACornersNormalOnlyWhereItAgreesWithItsFace) {
+  // One triangle in z = 0 (face normal +z), colour 0 at every corner. Corner 0's normal is 30
+  // degrees off the face, corner 1's 60 degrees, corner 2 has the face's.
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const float r30 = float(M_PI / 6.0), r60 = float(M_PI / 3.0);
+  m.normals = {{std::sin(r30), 0, std::cos(r30)}, {std::sin(r60), 0, std::cos(r60)}, {0, 0, 1}};
+  m.texCoords.assign(3, glm::vec2(0.0f));
+  m.indices = {0, 1, 2};
+  const glm::vec4 colours[] = {{0.5f, 0.5f, 0.5f, 1.0f}};
+  const Mesh flat = flatColoured(m, colours);  // flat: the face's normal everywhere
+  ASSERT_EQ(flat.normals.size(), 3u);
+  for (const glm::vec3& n : flat.normals) EXPECT_EQ(n, glm::vec3(0, 0, 1));
+  const Mesh smooth = flatColoured(m, colours, std::cos(float(M_PI / 4.0)));  // within 45 degrees
+  ASSERT_EQ(smooth.normals.size(), 3u);
+  EXPECT_EQ(smooth.normals[0], m.normals[0]);
+  EXPECT_EQ(smooth.normals[1], glm::vec3(0, 0, 1));
+  EXPECT_EQ(smooth.normals[2], glm::vec3(0, 0, 1));
 }
 
 TEST(CellNodes, TheDecoderRefusesCellsWhereTheTreeCannotHaveThem) {

@@ -4,7 +4,10 @@
 #include "hlod/import/Import.h"
 
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include <algorithm>
+#include <tuple>
 
 #include "ImportTestUtil.h"
 
@@ -315,6 +318,38 @@ TEST(ObjImport, MakesOneMeshPerMaterialWithColourAndTexture) {
   EXPECT_NE(model->warnings[0].find("texture not loaded"), std::string::npos) << model->warnings[0];
 }
 
+TEST(ObjImport, KeepsEachObjectAndGroupAsAnObject) {
+  TempDir dir;
+  dir.write("m.mtl", "newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n");
+  // Faces before any o/g, then o pump (g body red, g body blue, g wheel), o valve, back to pump.
+  auto model = importModel(dir.write("parts.obj",
+                                     "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                     "usemtl red\nf 1 2 3\n"
+                                     "o pump\ng body\nf 1 2 3 4\nusemtl blue\nf 1 3 4\n"
+                                     "g wheel\nf 2 3 4\n"
+                                     "o valve\nf 1 2 4\n"
+                                     "o pump\ng body\nusemtl red\nf 1 3 4\n"));
+  ASSERT_TRUE(model.ok()) << model.message();
+  ASSERT_EQ(model->meshes.size(), 2u);  // one per material still
+  // Objects by (o, g) pair in first-seen order: 0 before either, pump/"" 1 (no faces), pump/body
+  // 2, pump/wheel 3, valve/wheel 4. The last faces are pump/body's again: its red run goes on.
+  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>> runs;
+  for (const ObjectRun& r : model->objectRuns)
+    runs.emplace_back(r.object, r.mesh, r.firstTriangle, r.triangleCount);
+  const std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>> want{
+      {0, 0, 0, 1}, {2, 0, 1, 3}, {2, 1, 0, 1}, {3, 1, 1, 1}, {4, 1, 2, 1}};
+  std::sort(runs.begin(), runs.end(), [](const auto& a, const auto& b) {
+    return std::tie(std::get<1>(a), std::get<2>(a)) < std::tie(std::get<1>(b), std::get<2>(b));
+  });
+  EXPECT_EQ(runs, want);
+  EXPECT_EQ(model->objectCount(), 5u);
+  // A file without o or g is one object: no runs.
+  auto plain = importModel(dir.write("plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+  ASSERT_TRUE(plain.ok()) << plain.message();
+  EXPECT_TRUE(plain->objectRuns.empty());
+  EXPECT_EQ(plain->objectCount(), 1u);
+}
+
 TEST(ObjImport, MissingMaterialLibraryIsOnlyAWarning) {
   TempDir dir;
   auto model = importModel(
@@ -412,6 +447,28 @@ TEST(GltfImport, ReadsGlbWithNodeTransformsInDoublePrecision) {
   TempDir dir;
   const std::string bin = triangleBin();
   expectTriangleModel(importModel(dir.write("tri.glb", glb(triangleGltfJson(68, ""), bin))));
+}
+
+TEST(GltfImport, EachNodeInstanceWithAMeshIsAnObject) {
+  TempDir dir;
+  // The mesh (two primitives) instanced by two nodes under one parent: flattened into two
+  // objects of two meshes each.
+  std::string json = triangleGltfJson(68, "");
+  json.replace(json.find(R"("nodes":[{"translation":[6378137.5,0,0],"children":[1]},)"),
+               std::string(R"("nodes":[{"translation":[6378137.5,0,0],"children":[1]},)").size(),
+               R"("nodes":[{"translation":[6378137.5,0,0],"children":[1,2]},{"mesh":0},)");
+  auto model = importModel(dir.write("two.glb", glb(json, triangleBin())));
+  ASSERT_TRUE(model.ok()) << model.message();
+  ASSERT_EQ(model->meshes.size(), 4u);
+  ASSERT_EQ(model->objectRuns.size(), 4u);
+  for (std::uint32_t m = 0; m < 4; ++m) {
+    EXPECT_EQ(model->objectRuns[m].object, m / 2);
+    EXPECT_EQ(model->objectRuns[m].mesh, m);
+    EXPECT_EQ(model->objectRuns[m].firstTriangle, 0u);
+    EXPECT_EQ(model->objectRuns[m].triangleCount, 1u);
+  }
+  EXPECT_EQ(model->objectCount(), 2u);
+  EXPECT_EQ(model->cityObjects, 0u);  // objects, not buildings
 }
 
 TEST(GltfImport, ReadsGltfWithExternalBuffer) {

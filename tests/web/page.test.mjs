@@ -105,7 +105,7 @@ async function startServer() {
   dataDir = data;
   run(HLODR, ['city', '--blocks', '4', '--texture', '128', '--quiet', '-o', path.join(tmp, 'city')]);
   run(HLODR, ['build', path.join(tmp, 'city'), '-o', path.join(data, 'city.hlod')]);
-  // A y-up store (an OBJ box stands on y): the page offers it the orbit path only.
+  // A y-up store (an OBJ box stands on y): the page offers it the CAD scenes' paths and the orbit.
   const box = [0, 1, 2, 3, 4, 5, 6, 7].map((i) => `v ${i & 1} ${4 * ((i >> 1) & 1)} ${(i >> 2) & 1}`);
   fs.writeFileSync(path.join(tmp, 'tall.obj'),
     [...box, 'f 1 3 4 2', 'f 5 6 8 7', 'f 1 2 6 5', 'f 3 7 8 4', 'f 1 5 7 3', 'f 2 4 8 6', ''].join('\n'));
@@ -386,7 +386,7 @@ test('an accuracy study runs from the page and its report opens', async () => {
   await reportPage.close();
 });
 
-test('a y-up store is offered the orbit path only, and the city all three kinds', async () => {
+test('a y-up store is offered the CAD paths and the orbit, and the city its three kinds', async () => {
   const kinds = () => page.evaluate(() => ['#path-kind', '[name="study-path"]'].map((q) => {
     const select = document.querySelector(q);
     const enabled = [...select.options].filter((o) => !o.disabled).map((o) => o.value).sort();
@@ -395,7 +395,8 @@ test('a y-up store is offered the orbit path only, and the city all three kinds'
   let before = await viewerState();
   await page.selectOption('#scene', 'tall');
   await waitForRest(before, 'picking the y-up scene');
-  for (const k of await kinds()) assert.deepEqual(k, { value: 'orbit', enabled: ['orbit'] });
+  for (const k of await kinds())
+    assert.deepEqual(k, { value: 'catwalk', enabled: ['catwalk', 'fly-around', 'orbit'] });
   await shot('9-y-up-scene');
   before = await viewerState();
   await page.selectOption('#scene', 'city');

@@ -99,8 +99,10 @@ struct Model {
   std::string format;
   ModelCrs crs;
   std::size_t cityObjects = 0;  // CityJSON: city objects with imported geometry
-  // CityJSON: every triangle's city object (objects numbered 0..cityObjects-1), as runs; empty
-  // for the mesh formats, whose meshes have no objects.
+  // Every triangle's object, as runs (objects numbered from 0): the "objects" of Manocha sec. 2,
+  // the lowest level of organisation above the triangles. CityJSON: its city objects
+  // (0..cityObjects-1); glTF: each node instance with a mesh; OBJ: each o/g group. Empty for the
+  // formats without objects (PLY, OFF, STL): the file is one object.
   std::vector<ObjectRun> objectRuns;
   std::string lod;   // CityJSON: the level(s) of detail imported
   bool zUp = false;  // true for city models (CityJSON); mesh files are Y-up
@@ -110,6 +112,8 @@ struct Model {
 
   std::size_t triangleCount() const;
   Aabb bounds() const;
+  // The objects objectRuns number (the largest number + 1), or 1 without runs.
+  std::size_t objectCount() const;
 };
 
 // A mesh with float positions relative to a double-precision centre: the render/storage form.

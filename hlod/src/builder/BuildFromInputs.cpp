@@ -69,10 +69,15 @@ struct Placement {
   }
 };
 
-// Appends src's meshes and city objects to dst.
-void appendModel(Model& dst, Model&& src) {
+// Appends src's meshes and objects to dst. fileObjects: a file without objects becomes one
+// (Model::objectRuns); not when a city joins the files, whose objects are its buildings.
+void appendModel(Model& dst, Model&& src, bool fileObjects) {
   const auto meshBase = std::uint32_t(dst.meshes.size());
-  const auto objectBase = std::uint32_t(dst.cityObjects);
+  const auto objectBase =
+      std::uint32_t(std::max(dst.cityObjects, dst.objectRuns.empty() ? 0 : dst.objectCount()));
+  if (src.objectRuns.empty() && fileObjects)
+    for (std::uint32_t m = 0; m < src.meshes.size(); ++m)
+      src.objectRuns.push_back({0, m, 0, std::uint32_t(src.meshes[m].triangleCount())});
   for (ObjectRun r : src.objectRuns) {
     r.mesh += meshBase;
     r.object += objectBase;
@@ -126,7 +131,7 @@ Result<Skeleton> buildBlocks(const std::vector<CitySource>& cities,
   for (std::size_t m = 0; m < models.size(); ++m) {
     const ModelSource& source = models[m];
     if (source.model->meshes.empty()) continue;
-    if (!source.model->objectRuns.empty()) {
+    if (source.model->cityObjects > 0) {
       groups[m] = groupBuildingsIntoBlocks(*source.model, options.blockSize);
       for (std::size_t g = 0; g < groups[m].size(); ++g) units.push_back({m, g, false, true});
     } else if (source.place) {
@@ -238,21 +243,58 @@ BuildOptions withUpOf(const BuildOptions& options, const Model& model) {
   return o;
 }
 
+// The object hierarchy of a model (Manocha sec. 2.2) as the store's one block.
+Result<Skeleton> buildObjects(const Model& model, const std::filesystem::path& dir,
+                              const BuildOptions& options, const BuildProgressFn& progress,
+                              std::chrono::steady_clock::time_point t0) {
+  auto builder = HlodBuilder::create(dir, options);
+  if (!builder) return builder.error();
+  (*builder)->setModelFrame(upAxisOf(model), model.crs);
+  const ObjectHierarchy hierarchy = buildObjectHierarchy(model, objectHierarchyOptions(options));
+  BuildProgress p;
+  p.blockCount = 1;
+  p.nodeCount = hierarchy.nodes.size();
+  const auto nodesDone = [&](std::size_t done, std::size_t total) {
+    p.nodesDone = done;
+    p.nodeCount = total;
+    p.seconds = secondsSince(t0);
+    if (progress) progress(p);
+  };
+  if (auto s = (*builder)->addObjectHierarchy(model, hierarchy, nodesDone); !s) return s.error();
+  p.blocksDone = 1;
+  p.trianglesDone = (*builder)->inputTriangles();
+  if (progress) progress(p);
+  return (*builder)->finish(secondsSince(t0));
+}
+
+// A model built as `options.hierarchy` says (resolveHierarchy).
+Result<Skeleton> buildModel(const Model& model, const std::filesystem::path& dir,
+                            const BuildOptions& options, const BuildProgressFn& progress,
+                            std::chrono::steady_clock::time_point t0) {
+  const BuildOptions o = withUpOf(options, model);
+  if (resolveHierarchy(options.hierarchy, model) == HierarchyMode::Objects)
+    return buildObjects(model, dir, o, progress, t0);
+  const std::vector<ModelSource> models{{&model, GeoReference::of(model.crs), std::nullopt, {}}};
+  return buildBlocks(
+      {}, models, [&](HlodBuilder& b) { b.setModelFrame(upAxisOf(model), model.crs); }, dir, o,
+      progress, t0);
+}
+
 }  // namespace
 
 Result<Skeleton> buildStoreFromModel(const Model& model, const std::filesystem::path& dir,
                                      const BuildOptions& options, const BuildProgressFn& progress) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<ModelSource> models{{&model, GeoReference::of(model.crs), std::nullopt, {}}};
-  return buildBlocks(
-      {}, models, [&](HlodBuilder& b) { b.setModelFrame(upAxisOf(model), model.crs); }, dir,
-      withUpOf(options, model), progress, t0);
+  return buildModel(model, dir, options, progress, std::chrono::steady_clock::now());
 }
 
 Result<Skeleton> buildStoreFromCity(const std::filesystem::path& cityDir,
                                     const std::filesystem::path& dir, const BuildOptions& options,
                                     const BuildProgressFn& progress) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (options.hierarchy == HierarchyMode::Objects)
+    return makeError(cityDir.string() +
+                     " is a city folder: its blocks are cut by planes (--hierarchy objects is for "
+                     "model files)");
   auto manifest = readCity(cityDir);
   if (!manifest) return manifest.error();
   // The city's frame is the east-north-up frame at its origin: kept, so that the store can be
@@ -299,12 +341,15 @@ Result<Skeleton> buildStoreFromInputs(std::vector<BuildInput> inputs,
     Model merged;
     merged.zUp = inputs[0].model.zUp;
     merged.crs = inputs[0].model.crs;
-    for (BuildInput& in : inputs) appendModel(merged, std::move(in.model));
-    const std::vector<ModelSource> models{{&merged, GeoReference(), std::nullopt, {}}};
-    return buildBlocks(
-        {}, models, [&](HlodBuilder& b) { b.setModelFrame(upAxisOf(merged), merged.crs); }, dir,
-        withUpOf(options, merged), progress, t0);
+    const bool city = std::any_of(inputs.begin(), inputs.end(),
+                                  [](const BuildInput& in) { return in.model.cityObjects > 0; });
+    for (BuildInput& in : inputs) appendModel(merged, std::move(in.model), !city);
+    return buildModel(merged, dir, options, progress, t0);
   }
+  if (options.hierarchy == HierarchyMode::Objects)
+    return makeError(
+        "geo-referenced inputs and city folders are placed as blocks cut by planes "
+        "(--hierarchy objects is for model files without a geographic anchor)");
   if (loose != geo.end()) {
     const BuildInput& l = inputs[std::size_t(loose - geo.begin())];
     const BuildInput& a = inputs[std::size_t(anchored - geo.begin())];

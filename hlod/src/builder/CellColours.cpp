@@ -2,6 +2,7 @@
 #include "builder/CellColours.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
@@ -87,7 +88,7 @@ ColouredMesh mergeCellChildren(std::span<const LocalMesh> children) {
   return out;
 }
 
-Mesh flatColoured(const Mesh& simplified, std::span<const glm::vec4> colours) {
+Mesh flatColoured(const Mesh& simplified, std::span<const glm::vec4> colours, float smoothCos) {
   Mesh out;
   out.oneSided = simplified.oneSided;
   out.baseColor = glm::vec4(1.0f);
@@ -116,9 +117,9 @@ Mesh flatColoured(const Mesh& simplified, std::span<const glm::vec4> colours) {
   for (std::size_t t = 0; t < texelColour.size(); ++t)
     for (int ch = 0; ch < 4; ++ch)
       image->pixels[4 * t + ch] = std::uint8_t(texelColour[t] >> (24 - 8 * ch));
-  // Three vertices per triangle, with its face's normal: after a simplification that joined
-  // separate parts, the input vertices' normals no longer match their triangles, and shading
-  // them smoothly paints swirls across flat walls.
+  // Three vertices per triangle, with its face's normal (but where smoothCos allows): after a
+  // simplification that joined separate parts, the input vertices' normals no longer match their
+  // triangles, and shading them smoothly paints swirls across flat walls.
   for (std::size_t i = 0; i + 2 < simplified.indices.size(); i += 3) {
     const std::uint32_t* tri = &simplified.indices[i];
     const std::uint32_t texel = triangleTexel[i / 3];
@@ -128,15 +129,38 @@ Mesh flatColoured(const Mesh& simplified, std::span<const glm::vec4> colours) {
       assert(tri[k] < simplified.positions.size());
       const glm::vec3 fallback =
           tri[k] < simplified.normals.size() ? simplified.normals[tri[k]] : glm::vec3(0, 0, 1);
+      const glm::vec3 face = normalizedOr(glm::vec3(n), fallback);
+      // A corner's own normal where it agrees with its face (smoothCos < 1: a curved part
+      // stays round), the face's elsewhere.
+      const bool smooth = smoothCos < 1.0f && tri[k] < simplified.normals.size() &&
+                          glm::dot(simplified.normals[tri[k]], face) >= smoothCos;
       out.indices.push_back(std::uint32_t(out.positions.size()));
       out.positions.push_back(simplified.positions[tri[k]]);
-      out.normals.push_back(normalizedOr(glm::vec3(n), fallback));
+      out.normals.push_back(smooth ? simplified.normals[tri[k]] : face);
       out.texCoords.push_back((glm::vec2(float(texel % side), float(texel / side)) + 0.5f) /
                               float(side));
     }
   }
   out.texture = std::move(image);
   return out;
+}
+
+void dropRepeatedTriangles(Mesh& mesh) {
+  std::vector<std::array<std::uint32_t, 4>> keys;  // rotated so the smallest comes first, then t
+  for (std::uint32_t t = 0; t * 3 < mesh.indices.size(); ++t) {
+    const std::uint32_t* v = &mesh.indices[3 * t];
+    const int k = v[0] <= v[1] && v[0] <= v[2] ? 0 : v[1] <= v[2] ? 1 : 2;
+    keys.push_back({v[k], v[(k + 1) % 3], v[(k + 2) % 3], t});
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::uint8_t> keep(keys.size(), 0);
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    if (i == 0 || !std::equal(keys[i].begin(), keys[i].begin() + 3, keys[i - 1].begin()))
+      keep[keys[i][3]] = 1;
+  std::vector<std::uint32_t> indices;
+  for (std::uint32_t t = 0; t < keep.size(); ++t)
+    if (keep[t]) indices.insert(indices.end(), &mesh.indices[3 * t], &mesh.indices[3 * t] + 3);
+  mesh.indices = std::move(indices);
 }
 
 }  // namespace hlod

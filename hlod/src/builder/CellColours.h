@@ -27,7 +27,15 @@ ColouredMesh mergeCellChildren(std::span<const LocalMesh> children);
 // The simplified mesh in flat colours: each triangle the mean of its corners' colours, from a
 // palette texture of one texel per distinct colour, all three corners of a triangle at its
 // texel's centre (equal coordinates: the sampler stays at the base level, so no mipmap blends
-// neighbouring colours), and flat shaded (three vertices per triangle, its face's normal).
-Mesh flatColoured(const Mesh& simplified, std::span<const glm::vec4> colours);
+// neighbouring colours), and flat shaded (three vertices per triangle, its face's normal). With
+// smoothCos below 1, a corner keeps its own normal where that is within acos(smoothCos) of its
+// face's (an object HLOD's pipes and tanks stay round).
+Mesh flatColoured(const Mesh& simplified, std::span<const glm::vec4> colours,
+                  float smoothCos = 1.0f);
+
+// Keeps one of triangles with the same three vertices in the same turn: children that repeat
+// their triangles (a pile of copies of one quad, which nothing can simplify) would otherwise hand
+// the shape guard a pile whose every triangle is every query's nearest.
+void dropRepeatedTriangles(Mesh& mesh);
 
 }  // namespace hlod

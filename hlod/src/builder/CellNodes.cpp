@@ -38,27 +38,6 @@ struct PreparedCell {
   StoredPayload payload;
 };
 
-// Keeps one of triangles with the same three vertices in the same turn: children that repeat
-// their triangles (a pile of copies of one quad, which nothing can simplify) would otherwise hand
-// the shape guard a pile whose every triangle is every query's nearest.
-void dropRepeatedTriangles(Mesh& mesh) {
-  std::vector<std::array<std::uint32_t, 4>> keys;  // rotated so the smallest comes first, then t
-  for (std::uint32_t t = 0; t * 3 < mesh.indices.size(); ++t) {
-    const std::uint32_t* v = &mesh.indices[3 * t];
-    const int k = v[0] <= v[1] && v[0] <= v[2] ? 0 : v[1] <= v[2] ? 1 : 2;
-    keys.push_back({v[k], v[(k + 1) % 3], v[(k + 2) % 3], t});
-  }
-  std::sort(keys.begin(), keys.end());
-  std::vector<std::uint8_t> keep(keys.size(), 0);
-  for (std::size_t i = 0; i < keys.size(); ++i)
-    if (i == 0 || !std::equal(keys[i].begin(), keys[i].begin() + 3, keys[i - 1].begin()))
-      keep[keys[i][3]] = 1;
-  std::vector<std::uint32_t> indices;
-  for (std::uint32_t t = 0; t < keep.size(); ++t)
-    if (keep[t]) indices.insert(indices.end(), &mesh.indices[3 * t], &mesh.indices[3 * t] + 3);
-  mesh.indices = std::move(indices);
-}
-
 // Builds a cell from its children (their NodeInfo copied before the level started: the skeleton
 // grows while the level's cells are built). Thread-safe: reads what the writer flushed.
 Result<PreparedCell> buildCell(

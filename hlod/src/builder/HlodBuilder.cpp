@@ -15,6 +15,7 @@
 #include "builder/BlockBorders.h"
 #include "builder/CellNodes.h"
 #include "builder/FacadePartition.h"
+#include "builder/MaterialKey.h"
 #include "builder/Preprocess.h"
 #include "builder/SimplifierImpl.h"
 #include "builder/SlabPartition.h"
@@ -74,12 +75,8 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
       if (slabs.triangles.size() < 2) slabs = SlabPartition{};
     }
     if (inner && slabs.triangles.empty()) {
-      slabs = partitionIntoSlabs(piece, levelFactor);
-      mergeSmallSlabs(slabs, options.minLeafTri);
-      // One slab left: the triangles bunch up in one slab; divide them by count instead.
-      if (slabs.triangles.size() < 2) slabs = partitionByCount(piece, levelFactor);
-      // Still one: the centroids all lie on one plane.
-      inner = slabs.triangles.size() > 1;
+      slabs = divideIntoSlabs(piece, levelFactor, options.minLeafTri);
+      inner = slabs.triangles.size() > 1;  // one: the centroids all lie on one plane
     }
     if (!inner) {
       nodes[i].mesh = std::move(piece);  // a leaf: the original triangles
@@ -121,16 +118,6 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
 
 namespace {
 
-struct MaterialKey {
-  const Image* texture;
-  float r, g, b, a;
-  bool oneSided;
-  bool operator<(const MaterialKey& o) const {
-    return std::tie(texture, r, g, b, a, oneSided) <
-           std::tie(o.texture, o.r, o.g, o.b, o.a, o.oneSided);
-  }
-};
-
 void appendMesh(Mesh& dst, const Mesh& src) {
   const auto base = std::uint32_t(dst.positions.size());
   const bool dstEmpty = dst.positions.empty();
@@ -144,28 +131,6 @@ void appendMesh(Mesh& dst, const Mesh& src) {
   if (n) dst.normals.insert(dst.normals.end(), src.normals.begin(), src.normals.end());
   if (uv) dst.texCoords.insert(dst.texCoords.end(), src.texCoords.begin(), src.texCoords.end());
   for (std::uint32_t i : src.indices) dst.indices.push_back(base + i);
-}
-
-// Halves the triangles (indices into the group's mesh) at the middle of their centroids' longest
-// extent until each part has at most maxTriangles. Both halves of a cut are non-empty, so parts
-// only shrink; triangles whose centroids coincide cannot be separated and stay one part. The depth
-// bound keeps the recursion's stack small for any spread of centroids.
-void halveUntilSmall(const std::vector<glm::dvec3>& centroids, std::vector<std::uint32_t> triangles,
-                     std::size_t maxTriangles, int depth,
-                     std::vector<std::vector<std::uint32_t>>& out) {
-  Aabb box;
-  for (std::uint32_t t : triangles) box.extend(centroids[t]);
-  const int axis = longestAxis(box);
-  if (triangles.size() <= maxTriangles || depth >= 48 || !(box.size()[axis] > 0.0)) {
-    out.push_back(std::move(triangles));
-    return;
-  }
-  const double mid = box.centre()[axis];
-  std::vector<std::uint32_t> below, above;
-  for (std::uint32_t t : triangles) (centroids[t][axis] <= mid ? below : above).push_back(t);
-  triangles = {};
-  halveUntilSmall(centroids, std::move(below), maxTriangles, depth + 1, out);
-  halveUntilSmall(centroids, std::move(above), maxTriangles, depth + 1, out);
 }
 
 // The parts of one welded mesh as blocks, each with the positions it shares with the others.
@@ -204,8 +169,7 @@ std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles) {
   std::map<MaterialKey, Mesh> groups;
   for (const Mesh& m : model.meshes) {
     if (m.triangleCount() == 0) continue;
-    const MaterialKey key{m.texture.get(), m.baseColor.r, m.baseColor.g,
-                          m.baseColor.b,   m.baseColor.a, m.oneSided};
+    const MaterialKey key = materialKeyOf(m);
     auto [it, fresh] = groups.try_emplace(key);
     if (fresh) {
       it->second.name = m.name;

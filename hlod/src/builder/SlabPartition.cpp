@@ -128,4 +128,30 @@ Mesh subMesh(const Mesh& mesh, std::span<const std::uint32_t> triangles,
   return out;
 }
 
+void halveUntilSmall(const std::vector<glm::dvec3>& centroids, std::vector<std::uint32_t> triangles,
+                     std::size_t maxTriangles, int depth,
+                     std::vector<std::vector<std::uint32_t>>& out) {
+  Aabb box;
+  for (std::uint32_t t : triangles) box.extend(centroids[t]);
+  const int axis = longestAxis(box);
+  if (triangles.size() <= maxTriangles || depth >= 48 || !(box.size()[axis] > 0.0)) {
+    out.push_back(std::move(triangles));
+    return;
+  }
+  const double mid = box.centre()[axis];
+  std::vector<std::uint32_t> below, above;
+  for (std::uint32_t t : triangles) (centroids[t][axis] <= mid ? below : above).push_back(t);
+  triangles = {};
+  halveUntilSmall(centroids, std::move(below), maxTriangles, depth + 1, out);
+  halveUntilSmall(centroids, std::move(above), maxTriangles, depth + 1, out);
+}
+
+SlabPartition divideIntoSlabs(const Mesh& piece, int levelFactor, std::size_t minLeafTri) {
+  SlabPartition slabs = partitionIntoSlabs(piece, levelFactor);
+  mergeSmallSlabs(slabs, minLeafTri);
+  // One slab left: the triangles bunch up in one slab; divide them by count instead.
+  if (slabs.triangles.size() < 2) slabs = partitionByCount(piece, levelFactor);
+  return slabs;
+}
+
 }  // namespace hlod

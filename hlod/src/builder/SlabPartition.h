@@ -40,6 +40,19 @@ void mergeSmallSlabs(SlabPartition& partition, std::size_t minTriangles);
 // triangles reach far beyond its buildings.
 SlabPartition partitionByCount(const Mesh& mesh, int levelFactor);
 
+// The children of a piece of a block (buildBlockHierarchy): levelFactor slabs of equal width
+// (partitionIntoSlabs), the small ones merged (mergeSmallSlabs with minLeafTri), or by count
+// (partitionByCount) when that leaves one. One slab: the centroids all lie on one plane.
+SlabPartition divideIntoSlabs(const Mesh& piece, int levelFactor, std::size_t minLeafTri);
+
+// Halves the triangles (indices into centroids) at the middle of their centroids' longest extent
+// until each part has at most maxTriangles (cutIntoBlocks). Both halves of a cut are non-empty,
+// so parts only shrink; triangles whose centroids coincide cannot be separated and stay one part.
+// The depth bound keeps the recursion's stack small for any spread of centroids (call with 0).
+void halveUntilSmall(const std::vector<glm::dvec3>& centroids, std::vector<std::uint32_t> triangles,
+                     std::size_t maxTriangles, int depth,
+                     std::vector<std::vector<std::uint32_t>>& out);
+
 // The centroid of triangle t.
 glm::dvec3 centroid(const Mesh& mesh, std::size_t t);
 

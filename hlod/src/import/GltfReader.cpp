@@ -1,6 +1,8 @@
 // glTF 2.0 reader (.gltf and .glb) through tinygltf: walks the default scene applying node
 // transforms in double precision; every triangle primitive becomes one Mesh with its base colour
-// and base-colour texture. Accessor bounds are checked here as tinygltf does not check them all.
+// and base-colour texture, and every node instance with a mesh one object (Model::objectRuns):
+// instances are flattened, each a copy. Accessor bounds are checked here as tinygltf does not
+// check them all.
 //
 // Hostile files: tinygltf parses JSON recursively, so nesting depth is bounded before it parses;
 // its file access goes through callbacks that read only inside the model's folder (no "~" or
@@ -257,7 +259,14 @@ class GltfWalker {
                                   std::to_string(kMaxGltfSceneElements) +
                                   " vertices or triangles in all (at mesh " +
                                   std::to_string(meshIndex) + ")");
-    return addMesh(meshIndex, world);
+    // The instance is one object: its primitives' meshes, however many.
+    const std::size_t firstMesh = model_.meshes.size();
+    if (auto s = addMesh(meshIndex, world); !s.ok()) return s;
+    for (std::size_t m = firstMesh; m < model_.meshes.size(); ++m)
+      model_.objectRuns.push_back(
+          {objects_, std::uint32_t(m), 0, std::uint32_t(model_.meshes[m].triangleCount())});
+    if (model_.meshes.size() > firstMesh) ++objects_;
+    return Ok{};
   }
 
   Result<AccessorView> accessor(int index, const std::string& what) {
@@ -475,6 +484,7 @@ class GltfWalker {
   std::uint64_t nodeInstances_ = 0;
   std::uint64_t instancedVertices_ = 0;
   std::uint64_t instancedTriangles_ = 0;
+  std::uint32_t objects_ = 0;  // node instances with triangles so far
   Model model_;
 };
 

@@ -1,7 +1,9 @@
 // OBJ reader: v, vt, vn and f with every index form (v, v/t, v//n, v/t/n, negative = relative to
 // the end), polygons fan-triangulated, one Mesh per material (usemtl), materials from mtllib (Kd,
 // d/Tr, map_Kd relative to the OBJ folder). Vertices are shared per (v, vt, vn) tuple. Material
-// libraries and textures are read only from inside the OBJ's folder.
+// libraries and textures are read only from inside the OBJ's folder. Objects (Model::objectRuns):
+// each distinct pair of the current `o` and `g` names is one, faces before either belong to the
+// first; a file with neither statement has no runs (it is one object).
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -39,6 +41,7 @@ struct Group {
   FlatIndexMap<Corner, CornerHash> corners;
   bool anyTexCoord = false;
   bool missingNormal = false;
+  std::vector<ObjectRun> runs;  // their mesh is set when the group becomes a Mesh
 };
 
 // Skips the options of a map_Kd line ("-s 1 1 1", "-clamp on", ...): the rest is the file name.
@@ -146,8 +149,15 @@ class ObjParser {
       } else if (key == "mtllib") {
         readMtl(path_, std::string(scan_.restOfLine()), materials_);
         continue;
+      } else if (key == "o" || key == "g") {
+        (key == "o" ? objectName_ : groupName_) = std::string(scan_.restOfLine());
+        auto [it, fresh] = objectIds_.try_emplace(objectName_ + '\n' + groupName_,
+                                                  std::uint32_t(objectIds_.size()));
+        object_ = it->second;
+        namedObjects_ = true;
+        continue;
       }
-      // Other statements (o, g, s, l, p, comments, ...) carry nothing we draw.
+      // Other statements (s, l, p, comments, ...) carry nothing we draw.
       scan_.skipLine();
     }
     return finish();
@@ -231,6 +241,13 @@ class ObjParser {
       polygon_.push_back(vertexOf(c));
     }
     scan_.skipLine();
+    // The polygon's triangles extend the group's last run when it is the current object's.
+    if (polygon_.size() >= 3) {
+      std::vector<ObjectRun>& runs = groups_[current_].runs;
+      if (runs.empty() || runs.back().object != object_)
+        runs.push_back({object_, 0, std::uint32_t(groups_[current_].mesh.indices.size() / 3), 0});
+      runs.back().triangleCount += std::uint32_t(polygon_.size() - 2);
+    }
     for (std::size_t k = 1; k + 1 < polygon_.size(); ++k) {
       auto& idx = groups_[current_].mesh.indices;
       idx.push_back(polygon_[0]);
@@ -283,6 +300,15 @@ class ObjParser {
       const glm::vec4& c = g.mesh.baseColor;
       const auto [at, fresh] =
           meshOf.try_emplace({c.r, c.g, c.b, c.a, g.mesh.texture.get()}, model.meshes.size());
+      // An object's runs follow its triangles into the mesh of their material.
+      const auto firstTriangle =
+          fresh ? 0u : static_cast<std::uint32_t>(model.meshes[at->second].indices.size() / 3);
+      if (namedObjects_)
+        for (ObjectRun r : g.runs) {
+          r.mesh = std::uint32_t(at->second);
+          r.firstTriangle += firstTriangle;
+          model.objectRuns.push_back(r);
+        }
       if (fresh)
         model.meshes.push_back(std::move(g.mesh));
       else
@@ -321,6 +347,11 @@ class ObjParser {
   std::size_t current_ = 0;
   std::vector<std::uint32_t> polygon_;
   std::unordered_map<std::string, Material> materials_;
+  // The current object (`o`, `g`): ids by the pair of names, the first for faces before either.
+  std::string objectName_, groupName_;
+  std::unordered_map<std::string, std::uint32_t> objectIds_{{"\n", 0}};
+  std::uint32_t object_ = 0;
+  bool namedObjects_ = false;
 };
 
 }  // namespace

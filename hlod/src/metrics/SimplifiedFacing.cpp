@@ -120,7 +120,14 @@ Result<std::vector<TriangleFacing>> triangleFacing(const Mesh& original, const M
 }
 
 Result<FacingReport> checkFacing(const Mesh& original, const Mesh& simplified, double offLimit) {
-  Result<std::vector<TriangleFacing>> each = triangleFacing(original, simplified);
+  Result<FacingChecker> checker = FacingChecker::create(original);
+  if (!checker) return checker.error();
+  return checkFacing(*checker, simplified, offLimit);
+}
+
+Result<FacingReport> checkFacing(const FacingChecker& checker, const Mesh& simplified,
+                                 double offLimit) {
+  Result<std::vector<TriangleFacing>> each = checker.check(simplified);
   if (!each) return each.error();
   FacingReport r;
   for (std::size_t i = 0; i < each->size(); ++i) {

@@ -24,7 +24,7 @@ const char* const kBuildUsage =
     "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tris N]\n"
     "                   [--min-leaf-tris N] [--simplifier meshopt|openmesh|parry] [--c-tex X]\n"
     "                   [--max-block-tri N] [--block-size M] [--threads N]\n"
-    "                   [--cells auto|on|off]\n"
+    "                   [--cells auto|on|off] [--hierarchy auto|planes|objects]\n"
     "                   [--lod X] [--up x|y|z] [--quiet]\n"
     "\n"
     "Builds the HLOD node store (Lakhia et al. III-A/B) that `hlodr render` streams from disk.\n"
@@ -76,6 +76,12 @@ const char* const kBuildUsage =
     "                       cells, each simplified from the nodes below it, so that far blocks\n"
     "                       cost less than their hlod_0 (default auto: when the blocks' hlod_0\n"
     "                       nodes hold more than 200,000 triangles, what a 33 ms frame draws)\n"
+    "  --hierarchy H        planes: the blocks and plane cuts above; objects: the object\n"
+    "                       hierarchy of Manocha sec. 2.2 for CAD scenes of many objects (glTF\n"
+    "                       nodes, OBJ o/g groups, each mesh file one): large objects split,\n"
+    "                       small ones clustered by proximity, an AABB tree over them, HLODs\n"
+    "                       bottom up (docs/objects.md); auto (default): objects for a model of\n"
+    "                       at least 16 objects that is not a city, planes otherwise\n"
     "  --threads N          blocks built at once, 1..256 (default: one per core); memory grows\n"
     "                       with the blocks in flight, the store is the same for any N\n"
     "  --lod X              CityJSON: the level of detail to import, as the file names it (1, 2,\n"
@@ -135,10 +141,10 @@ int buildTileset(const std::string& in, const std::string& out, const hlod::Buil
 }  // namespace
 
 int runBuild(const Argv& argv) {
-  auto args = Args::parse(
-      argv, {"quiet"},
-      {"output", "level-factor", "desired-tris", "desired-tri", "simplifier", "c-tex",
-       "max-block-tri", "lod", "up", "min-leaf-tris", "threads", "block-size", "cells"});
+  auto args = Args::parse(argv, {"quiet"},
+                          {"output", "level-factor", "desired-tris", "desired-tri", "simplifier",
+                           "c-tex", "max-block-tri", "lod", "up", "min-leaf-tris", "threads",
+                           "block-size", "cells", "hierarchy"});
   if (!args) {
     std::fprintf(stderr, "hlodr build: %s\n%s", args.message().c_str(), kBuildUsage);
     return 2;
@@ -193,6 +199,15 @@ int runBuild(const Argv& argv) {
   options.cells = cells == "on"    ? hlod::CellMode::On
                   : cells == "off" ? hlod::CellMode::Off
                                    : hlod::CellMode::Auto;
+  const std::string hierarchy = args->get("hierarchy", "auto");
+  if (hierarchy != "auto" && hierarchy != "planes" && hierarchy != "objects") {
+    std::fprintf(stderr, "hlodr build: --hierarchy must be auto, planes or objects (not '%s')\n",
+                 hierarchy.c_str());
+    return 2;
+  }
+  options.hierarchy = hierarchy == "planes"    ? hlod::HierarchyMode::Planes
+                      : hierarchy == "objects" ? hlod::HierarchyMode::Objects
+                                               : hlod::HierarchyMode::Auto;
   if (auto up = args->get("up")) {
     options.up = hlod::parseUpAxis(*up);
     if (!options.up) {
@@ -230,6 +245,11 @@ int runBuild(const Argv& argv) {
     const double eta =
         p.blocksDone ? p.seconds / double(p.blocksDone) * double(p.blockCount - p.blocksDone) : 0.0;
     char text[160];
+    if (p.nodeCount > 0) {
+      std::snprintf(text, sizeof text, "object hierarchy: node %zu/%zu", p.nodesDone, p.nodeCount);
+      lines.update(double(p.nodesDone) / double(p.nodeCount), text);
+      return;
+    }
     if (p.cellCount > 0) {
       std::snprintf(text, sizeof text, "cell nodes: quadtree cell %zu/%zu", p.cellsDone,
                     p.cellCount);
@@ -287,6 +307,25 @@ int runBuild(const Argv& argv) {
     source.model = std::move(*m);
     sources.push_back(std::move(source));
   }
+  // What auto picks, said: a model of many objects (not a city) gets the object hierarchy.
+  if (options.hierarchy == hlod::HierarchyMode::Auto) {
+    std::size_t objects = 0;
+    bool city = false;
+    for (const auto& source : sources) {
+      city = city || source.cityDir.has_value() || source.model.cityObjects > 0;
+      if (!source.cityDir) objects += source.model.objectCount();
+    }
+    const bool many = !city && objects >= hlod::kManyObjects;
+    options.hierarchy = many ? hlod::HierarchyMode::Objects : hlod::HierarchyMode::Planes;
+    if (many && !quiet) {
+      lines.done();
+      std::printf(
+          "hierarchy: objects (the input has %zu objects; --hierarchy planes cuts it by "
+          "planes instead)\n",
+          objects);
+      std::fflush(stdout);  // before the progress lines on stderr
+    }
+  }
   hlod::Result<hlod::Skeleton> built =
       hlod::buildStoreFromInputs(std::move(sources), *out, options, progress);
   lines.done();
@@ -307,6 +346,12 @@ int runBuild(const Argv& argv) {
         out->c_str(), built->nodes.size(), built->blockRoots().size(), depth, cellNodes,
         options.levelFactor, options.desiredTri, options.simplifier.c_str(), options.cTex,
         cTexSource.c_str(), hlod::upAxisName(built->up));
+    if (options.hierarchy == hlod::HierarchyMode::Objects) {
+      std::size_t leaves = 0;
+      for (std::uint32_t i = 0; i < built->nodes.size(); ++i) leaves += built->isLeaf(i);
+      std::printf("object hierarchy: %zu leaves (redefined objects), %zu HLOD nodes above them\n",
+                  leaves, built->nodes.size() - leaves);
+    }
     const hlod::BlockQuadtree& q = built->quadtree;
     const hlod::QuadtreeStats qs = hlod::quadtreeStats(q);
     std::printf(

@@ -24,6 +24,9 @@ inline int usageError(const char* cmd, const std::string& message) {
 extern const char* const kCityUsage;
 int runCity(const Argv& args);
 
+extern const char* const kPlantUsage;
+int runPlant(const Argv& args);
+
 extern const char* const kRenderUsage;
 int runRender(const Argv& args);
 

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cmd/Commands.h"
+#include "cmd/HierarchyInfo.h"
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/geodesy/GeoReference.h"
 #include "hlod/import/Import.h"
@@ -32,6 +33,9 @@ const char* const kInfoUsage =
     "version, coordinate reference system, city objects, the LoD chosen, meshes, triangles, and\n"
     "the extent in the model's units (for data converted to east-north-up metres, the origin),\n"
     "and for CityJSON the blocks `hlodr build` would make and where they are anchored.\n"
+    "Both print the hierarchy's figures for the criteria of Manocha sec. 2.1.1 (localisation,\n"
+    "depth and balance, sibling-box overlap, object sizes; docs/objects.md): a store's tree, or\n"
+    "for a model its object hierarchy beside its plane cuts, as `hlodr build` makes them.\n"
     "\n"
     "options:\n"
     "  --json          machine-readable output\n"
@@ -117,7 +121,7 @@ int modelInfo(const std::string& file, const Args& args) {
     return 2;
   }
   std::size_t blocks = 0, roots = 0;
-  if (!model->objectRuns.empty()) {
+  if (model->cityObjects > 0) {
     for (const auto& block : hlod::groupBuildingsIntoBlocks(*model, *blockSize)) {
       ++blocks;
       roots += hlod::cutIntoBlocks(block.model, hlod::kDefaultMaxBlockTriangles).size();
@@ -149,6 +153,8 @@ int modelInfo(const std::string& file, const Args& args) {
       j["blockRoots"] = roots;
       j["anchors"] = anchors;
     }
+    j["objects"] = model->objectCount();
+    j["hierarchy"] = modelHierarchyInfo(*model, false);
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -175,6 +181,8 @@ int modelInfo(const std::string& file, const Args& args) {
   std::printf("extent        %.3f x %.3f x %.3f%s\n", size.x, size.y, size.z, units);
   std::printf("bounds        (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f)\n", b.min.x, b.min.y, b.min.z,
               b.max.x, b.max.y, b.max.z);
+  std::printf("objects       %zu\n", model->objectCount());
+  modelHierarchyInfo(*model, true);
   return 0;
 }
 
@@ -308,6 +316,7 @@ int runInfo(const Argv& argv) {
       level["level"] = d;
       j["levels"].push_back(level);
     }
+    j["hierarchy"] = storeHierarchyInfo(s, false);
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -365,6 +374,7 @@ int runInfo(const Argv& argv) {
   };
   if (cells.nodes > 0) row("cells", cells);
   for (const auto& [d, l] : levels) row(std::to_string(d), l);
+  storeHierarchyInfo(s, true);
   return 0;
 }
 

@@ -1,7 +1,8 @@
-// `hlodr path STORE --kind walk-fly|drive|orbit -o PATH.json`: a camera path for a node store,
+// `hlodr path STORE --kind KIND -o PATH.json`: a camera path for a node store,
 // and `hlodr render STORE --path PATH.json -o OUT`: a path run through a Session.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -22,7 +23,8 @@ namespace service::cmd {
 namespace fs = std::filesystem;
 
 const char* const kPathUsage =
-    "usage: hlodr path STORE --kind walk-fly|drive|orbit -o PATH.json [--duration S]\n"
+    "usage: hlodr path STORE --kind walk-fly|drive|orbit|fly-around|catwalk -o PATH.json\n"
+    "                  [--duration S]\n"
     "\n"
     "Writes a camera path (JSON keyframes: time, position, target, up, fov) for the model in the\n"
     "node STORE (made by `hlodr build`). Render it with `hlodr render STORE --path PATH.json`.\n"
@@ -76,7 +78,7 @@ int runPath(const Argv& argv) {
                  store.message().c_str());
     return 1;
   }
-  auto path = hlod::makeCameraPath(kind, (*store)->skeleton());
+  auto path = hlod::makeCameraPath(kind, **store);
   if (!path) {
     std::fprintf(stderr, "hlodr path: %s\n", path.message().c_str());
     return 1;

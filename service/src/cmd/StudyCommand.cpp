@@ -13,7 +13,7 @@
 namespace service::cmd {
 
 const char* const kStudyUsage =
-    "usage: hlodr study STORE (--path PATH.json | --kind walk-fly|drive|orbit) -o DIR [options]\n"
+    "usage: hlodr study STORE (--path PATH.json | --kind KIND) -o DIR [options]\n"
     "\n"
     "The accuracy study: for frames spread over the camera path, the full-detail reference and\n"
     "each selector at each budget (SSE at each pixel threshold), with frame time (wall through\n"
@@ -21,6 +21,9 @@ const char* const kStudyUsage =
     "coverage difference (holes, shards), the front's screen-space error, toggles and bytes\n"
     "loaded. Writes DIR/study.json, study.csv, pareto.svg, flip.svg, path.svg, db-per-ms.svg,\n"
     "strip-N.png and index.html (open it in a browser, offline).\n"
+    "\n"
+    "KIND: a generated path, as `hlodr path --kind` makes it (walk-fly, drive, orbit,\n"
+    "fly-around, catwalk).\n"
     "\n"
     "options:\n"
     "{study.budgets}\n"
@@ -55,8 +58,7 @@ int runStudy(const Argv& argv) {
   if (!args->has("output"))
     return commandError("study", "-o DIR is required\n" + expandUsage(kStudyUsage), 2);
   if (args->has("path") == args->has("kind"))
-    return commandError("study",
-                        "give the camera path: --path PATH.json or --kind walk-fly|drive|orbit", 2);
+    return commandError("study", "give the camera path: --path PATH.json or --kind KIND", 2);
   using settings::get;
   StudyOptions o;
   auto budgets = args->numbers(get("study.budgets"));
@@ -115,7 +117,7 @@ int runStudy(const Argv& argv) {
   if (!store) return commandError("study", storePath + ": " + store.message());
   std::shared_ptr<const hlod::NodeStore> source(std::move(*store));
   auto path = args->has("path") ? hlod::CameraPath::read(args->get("path", ""))
-                                : hlod::makeCameraPath(args->get("kind", ""), source->skeleton());
+                                : hlod::makeCameraPath(args->get("kind", ""), *source);
   if (!path) return commandError("study", "the camera path: " + path.message());
 
   nlohmann::json settings = {

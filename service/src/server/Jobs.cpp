@@ -332,7 +332,7 @@ ApiResult<std::shared_ptr<const hlod::CameraPath>> JobManager::pathOf(const Scen
     path = hlod::makeOrbitPathFrom(scene.defaultCamera(aspect, settings.render.camera),
                                    hlod::modelUpFrame(sk));
   } else {
-    path = hlod::makeCameraPath(spec.kind, sk);
+    path = hlod::makeCameraPath(spec.kind, *scene.store);
   }
   if (path && spec.duration) path = hlod::withDuration(*path, *spec.duration);
   if (!path) return badRequest("path: " + path.message());

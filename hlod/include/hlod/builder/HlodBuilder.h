@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "hlod/builder/CityBlocks.h"
+#include "hlod/builder/ObjectHierarchy.h"
 #include "hlod/builder/Simplifier.h"
 #include "hlod/geodesy/Geodesy.h"
 #include "hlod/store/NodeStore.h"
@@ -79,7 +80,15 @@ struct BuildOptions {
   // Cell nodes above the blocks (builder/CellNodes.h): Auto builds them when the blocks' hlod_0
   // nodes hold more than kCellTriangles in all.
   CellMode cells = CellMode::Auto;
+  // A model's hierarchy: plane cuts (the blocks above), or the object hierarchy of Manocha sec.
+  // 2.2 (builder/ObjectHierarchy.h; resolveHierarchy says what Auto picks). City folders and
+  // geo-referenced regions are always cut by planes.
+  HierarchyMode hierarchy = HierarchyMode::Planes;
 };
+
+// The object hierarchy's options from the build's: fan-out levelFactor, redefined objects of at
+// most levelFactor * minLeafTri triangles (as the plane cuts' leaves).
+ObjectHierarchyOptions objectHierarchyOptions(const BuildOptions& options);
 
 // One node of a block's hierarchy, as built in memory (world coordinates, double).
 // info.parent and info.firstChild are indices into the block's node list; payload fields unset.
@@ -117,6 +126,11 @@ std::vector<BlockNode> buildBlockHierarchy(const Mesh& block, const BuildOptions
 // maxTriangles triangles. Block::seam lists the positions each block shares with the others.
 std::vector<Block> cutIntoBlocks(const Model& model, std::size_t maxTriangles);
 
+// The hierarchy the plane cuts make of a model (cutIntoBlocks, then buildBlockHierarchy's
+// division of each block, each block a root), without simplifying and without welding: for
+// comparing it with the object hierarchy (HierarchyCriteria.h). The triangles keep their objects.
+HierarchyShape planeCutShape(const Model& model, const BuildOptions& options);
+
 // The nodes of one block, level and resolution share one texture when their own crops would add
 // up to more than this many times the area of their union (an atlas each node uses all over).
 constexpr double kSharedTextureOverlap = 1.5;
@@ -129,6 +143,9 @@ struct BuildProgress {
   // After the blocks, the cell nodes' pass (BuildOptions::cells): quadtree cells done of all.
   std::size_t cellsDone = 0;
   std::size_t cellCount = 0;
+  // The object hierarchy (BuildOptions::hierarchy): its nodes done of all.
+  std::size_t nodesDone = 0;
+  std::size_t nodeCount = 0;
 };
 using BuildProgressFn = std::function<void(const BuildProgress&)>;
 
@@ -164,6 +181,16 @@ class HlodBuilder {
   PreparedBlock prepareBlock(const Mesh& block, std::span<const glm::dvec3> seam = {},
                              std::span<const CutPlane> sides = {}) const;
   Status commitBlock(PreparedBlock&& block);
+  // The object hierarchy of a model as one block (builder/ObjectHlods.cpp; Manocha sec. 2.2.1):
+  // a leaf holds its redefined object's triangles, in one material or, for several, in flat
+  // colours (a palette texture); an inner node's HLOD is made bottom up from its children's
+  // payloads, read back from the store, so that only a node and its children are in memory:
+  // merged in flat colours, simplified to their triangles over levelFactor (at least desiredTri)
+  // by Simplifier::simplifyUnion, whose vertex clustering joins disjoint objects and whose shape
+  // guard keeps the result free of flips and shards, as a cell node is; its geometric error is
+  // its children's largest plus its own. progress: nodes done of all.
+  Status addObjectHierarchy(const Model& model, const ObjectHierarchy& hierarchy,
+                            const std::function<void(std::size_t, std::size_t)>& progress = {});
   // Writes the skeleton, with the quadtree of the blocks (quadtreeOfRoots) and cell nodes above
   // them (BuildOptions::cells), and moves the store into place. An Error when no block added a
   // node (nothing to draw): no empty store is written.

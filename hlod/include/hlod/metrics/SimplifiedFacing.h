@@ -62,5 +62,8 @@ class FacingChecker {
 // without area.
 Result<FacingReport> checkFacing(const Mesh& original, const Mesh& simplified,
                                  double offLimit = std::numeric_limits<double>::infinity());
+// The same against an original indexed once (many simplifications of one original).
+Result<FacingReport> checkFacing(const FacingChecker& checker, const Mesh& simplified,
+                                 double offLimit = std::numeric_limits<double>::infinity());
 
 }  // namespace hlod::metrics

@@ -48,6 +48,8 @@
 
 namespace hlod {
 
+class NodeSource;
+
 // The most frames CameraPath::frameCount accepts by default: 10 million, 46 h at 60 fps or 3.9
 // days at 30 fps. A path run streams its frames, so this bounds the run's length, not memory.
 inline constexpr std::uint64_t kMaxPathFrames = 10'000'000;
@@ -124,8 +126,15 @@ inline Result<CameraPath> makeOrbitPathFrom(const Camera& start, UpAxis up,
                                             double duration = 30.0) {
   return makeOrbitPathFrom(start, upFrame(up), duration);
 }
-// "walk-fly", "drive" or "orbit": the generator of that kind (cameraPathKinds lists them).
+// A loop around a CAD scene's box, outside it, looking in (runtime/paths/FlyAroundPath.cpp).
+Result<CameraPath> makeFlyAroundPath(const Skeleton& skeleton, double duration = 40.0);
+// A walk at eye height along a CAD scene's catwalks, found in the store's full-detail geometry
+// (hlod/runtime/CatwalkPath.h; runtime/paths/CatwalkPath.cpp).
+Result<CameraPath> makeCatwalkPath(const NodeSource& store);
+// "walk-fly", "drive", "orbit", "fly-around" or "catwalk": the generator of that kind
+// (cameraPathKinds lists them); "catwalk" needs the store's geometry: the second form.
 Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton);
+Result<CameraPath> makeCameraPath(std::string_view kind, const NodeSource& store);
 // The kinds makeCameraPath knows, in the order its messages list them.
 std::vector<std::string_view> cameraPathKinds();
 // The same keyframes with their times scaled about the start so that the path lasts `seconds`.

@@ -4,8 +4,10 @@
 // when the front is cut at d (the nodes of level d and the leaves above it) is measured against
 // the block's original triangles: symmetric Hausdorff and RMS distance, sampled on both surfaces
 // (metrics::surfaceDistance), and the simplified triangles that face away from the original or
-// stand off it farther than the level's own error estimate (metrics::checkFacing).
+// stand off it farther than the level's own error estimate (metrics::checkFacing). The object
+// hierarchy of a model is studied the same way, as one tree over the whole model.
 #include <cstddef>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -39,7 +41,8 @@ struct LevelFigures {
 
 struct SimplifierFigures {
   std::string simplifier;
-  double buildSeconds = 0.0;  // buildBlockHierarchy over all blocks (measuring not included)
+  std::string hierarchy = "planes";  // or "objects" (addObjectModel)
+  double buildSeconds = 0.0;         // buildBlockHierarchy over all blocks (measuring not included)
   std::size_t inputTriangles = 0;
   std::vector<LevelFigures> levels;
 };
@@ -50,6 +53,12 @@ class BuildStudy {
   static Result<BuildStudy> create(const BuildStudyOptions& options);
   // Builds the block's hierarchy with each simplifier and measures its levels.
   Status addBlock(const Block& block);
+  // The object hierarchy of a whole model (Manocha sec. 2.2; builder/ObjectHierarchy.h), built
+  // with each simplifier into a store in `scratch` (a folder, removed after), its levels measured
+  // as a block's against the whole model with samplesPerBlock for every maxBlockTriangles
+  // triangles of it (as many samples as the plane cuts' blocks take together). Figures of their
+  // own, hierarchy "objects", after the planes'.
+  Status addObjectModel(const Model& model, const std::filesystem::path& scratch);
   const std::vector<SimplifierFigures>& figures() const { return figures_; }
 
  private:

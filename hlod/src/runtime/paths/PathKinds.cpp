@@ -2,15 +2,18 @@
 // (runtime/paths/PathGenerators.h says how to add one).
 #include <string>
 
+#include "hlod/store/NodeSource.h"
 #include "runtime/paths/PathGenerators.h"
 
 namespace hlod {
 
 namespace {
 
+// A generator from the skeleton, or (fromStore) one that needs the store's geometry.
 struct PathKind {
   std::string_view name;
   Result<CameraPath> (*make)(const Skeleton&);
+  Result<CameraPath> (*fromStore)(const NodeSource&) = nullptr;
 };
 
 // In the order messages and --help list them.
@@ -18,6 +21,8 @@ constexpr PathKind kPathKinds[] = {
     {"walk-fly", makeWalkFlyPath},
     {"drive", makeDrivePath},
     {"orbit", [](const Skeleton& skeleton) { return makeOrbitPath(skeleton); }},
+    {"fly-around", [](const Skeleton& skeleton) { return makeFlyAroundPath(skeleton); }},
+    {"catwalk", nullptr, makeCatwalkPath},
 };
 
 }  // namespace
@@ -28,13 +33,30 @@ std::vector<std::string_view> cameraPathKinds() {
   return out;
 }
 
-Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton) {
+namespace {
+
+Result<CameraPath> make(std::string_view kind, const Skeleton& skeleton, const NodeSource* store) {
   std::string known;
   for (const PathKind& k : kPathKinds) {
-    if (k.name == kind) return k.make(skeleton);
+    if (k.name == kind) {
+      if (k.fromStore && store) return k.fromStore(*store);
+      if (k.make) return k.make(skeleton);
+      return makeError("camera path '" + std::string(kind) +
+                       "' is made from the store's geometry, not its skeleton alone");
+    }
     known += (known.empty() ? "" : ", ") + std::string(k.name);
   }
   return makeError("unknown camera path '" + std::string(kind) + "' (known: " + known + ")");
+}
+
+}  // namespace
+
+Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton) {
+  return make(kind, skeleton, nullptr);
+}
+
+Result<CameraPath> makeCameraPath(std::string_view kind, const NodeSource& store) {
+  return make(kind, store.skeleton(), &store);
 }
 
 }  // namespace hlod
