@@ -509,9 +509,9 @@ std::optional<glm::dvec3> cesiumRtcCenter(const tinygltf::Model& gltf) {
 
 // Parses glTF text or GLB bytes and walks its scene. `path` names it in messages; files it refers
 // to are looked up relative to baseDir and read only from inside `folder`.
-Result<GltfScene> readGltfFrom(const std::filesystem::path& path, std::string bytes, bool binary,
-                               const std::filesystem::path& folder,
-                               const std::filesystem::path& baseDir, bool oneSidedFromMaterial) {
+Result<GltfContent> readGltfFrom(const std::filesystem::path& path, std::string bytes, bool binary,
+                                 const std::filesystem::path& folder,
+                                 const std::filesystem::path& baseDir, bool oneSidedFromMaterial) {
   if (bytes.empty()) return fileError(path, "file is empty");
   if (bytes.size() > 0xffffffffu) return fileError(path, "file larger than 4 GB");
   std::size_t jsonSize = bytes.size();
@@ -558,7 +558,7 @@ Result<GltfScene> readGltfFrom(const std::filesystem::path& path, std::string by
   if (!warning.empty()) warn(path, trim(warning));
   auto model = GltfWalker(path, gltf, oneSidedFromMaterial).run();
   if (!model) return model.error();
-  return GltfScene{std::move(*model), cesiumRtcCenter(gltf)};
+  return GltfContent{std::move(*model), cesiumRtcCenter(gltf)};
 }
 
 }  // namespace
@@ -573,7 +573,7 @@ Result<Model> readGltf(const std::filesystem::path& path, bool binary) {
   return std::move(scene->model);
 }
 
-Result<GltfScene> readGltfBytes(const GltfBytes& in) {
+Result<GltfContent> readGltfBytes(const GltfBytes& in) {
   return readGltfFrom(in.name, std::string(in.bytes), in.binary, in.folder, in.baseDir,
                       in.oneSidedFromMaterial);
 }

@@ -202,10 +202,10 @@ bool isMeshFile(const std::filesystem::path& path) {
          ext == ".glb" || ext == ".cityjson";
 }
 
-Result<GltfScene> importGltfBytes(const GltfBytes& in) {
+Result<GltfContent> importGltfBytes(const GltfBytes& in) {
   using namespace import;
   std::vector<std::string> warnings;
-  Result<GltfScene> scene = makeError("");
+  Result<GltfContent> scene = makeError("");
   {
     const WarningsInto collect(&warnings);
     try {

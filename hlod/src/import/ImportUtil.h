@@ -246,7 +246,7 @@ Result<Model> readOff(const std::filesystem::path& path, const std::string& byte
 Result<Model> readStl(const std::filesystem::path& path, const std::string& bytes);
 Result<Model> readObj(const std::filesystem::path& path, const std::string& bytes);
 Result<Model> readGltf(const std::filesystem::path& path, bool binary);
-Result<GltfScene> readGltfBytes(const GltfBytes& in);
+Result<GltfContent> readGltfBytes(const GltfBytes& in);
 Result<Model> readCityJson(const std::filesystem::path& path, const std::string& bytes,
                            const ImportOptions& options);
 // True when JSON text has the member "type": "CityJSON" (anywhere: members are unordered).

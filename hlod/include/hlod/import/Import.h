@@ -56,12 +56,12 @@ struct GltfBytes {
   // of single-sided materials, as glTF says); importModel draws every glTF mesh two-sided.
   bool oneSidedFromMaterial = false;
 };
-struct GltfScene {
+struct GltfContent {
   Model model;                          // may hold no mesh (points, lines, or nothing)
   std::optional<glm::dvec3> rtcCenter;  // the CESIUM_RTC extension's centre, when present
 };
 // Reads and checks as importModel does, except that a scene without triangles is not an error.
-Result<GltfScene> importGltfBytes(const GltfBytes& in);
+Result<GltfContent> importGltfBytes(const GltfBytes& in);
 
 // Loads an image file (PNG, JPEG, ...) into RGBA8.
 Result<Image> loadImage(const std::filesystem::path& path);
