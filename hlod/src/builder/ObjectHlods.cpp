@@ -225,6 +225,8 @@ Status HlodBuilder::addObjectHierarchy(
   std::size_t done = 0;
   for (std::size_t level = byLevel.size(); level-- > 0;) {
     const std::vector<std::size_t>& at = byLevel[level];
+    // The level below is appended whole: readable once flushed (NodeStoreWriter::readBack).
+    if (auto f = writer_->flush(); !f) return f.error();
     for (std::size_t first = 0; first < at.size(); first += window) {
       const std::size_t count = std::min(window, at.size() - first);
       std::vector<std::vector<LocalMesh>> children(count);
