@@ -114,9 +114,11 @@ def main():
     port = a.port
     scene = sorted(n[:-5] for n in os.listdir(a.data) if n.endswith(".hlod"))[0]
     jobs = tempfile.mkdtemp(prefix="hlodr_soak_jobs_")
+    server_log = open(os.path.join(jobs, "server.log"), "wb")
     server = subprocess.Popen([a.binary, "serve", "--data", a.data, "--jobs-dir", jobs,
                                "--port", str(port), "--quiet"],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                              stdout=server_log, stderr=subprocess.STDOUT)
+    print(f"server log: {server_log.name}", flush=True)
     for _ in range(600):
         try:
             if call(port, "127.0.0.1", "GET", "/healthz", timeout=2)[0] == 200:
