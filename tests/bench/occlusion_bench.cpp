@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
       if (std::sscanf(argv[++i], "%dx%d", &width, &height) != 2) return 2;
     } else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr, "usage: occlusion_bench [STORE] [--frames N] [--budget-ms MS] "
-                           "[--size WxH]\n");
+                           "[--size WxH] [--part culling|loading|prediction|all]\n");
       return 2;
     } else {
       store = a;
