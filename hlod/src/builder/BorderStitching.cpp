@@ -67,11 +67,11 @@ void stitchBorders(Mesh& mesh, std::span<const CutPlane> planes, UpAxis up, doub
     i = end;
   }
   // Per border edge on a plane, the border positions strictly inside it.
-  struct Split {
+  struct CornerSplit {
     double t;
     std::uint32_t position;
   };
-  std::unordered_map<std::uint32_t, std::vector<Split>> splits;  // by corner
+  std::unordered_map<std::uint32_t, std::vector<CornerSplit>> splits;  // by corner
   for (const CutPlane& plane : planes) {
     const int along = 3 - plane.axis - int(up);  // the horizontal axis the plane runs along
     std::vector<std::uint32_t> points;
