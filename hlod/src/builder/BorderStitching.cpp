@@ -110,12 +110,12 @@ void stitchBorders(Mesh& mesh, std::span<const CutPlane> planes, UpAxis up, doub
       indices.insert(indices.end(), tri, tri + 3);
       continue;
     }
-    std::vector<Split>& points = splits[3 * t + split];
+    std::vector<CornerSplit>& points = splits[3 * t + split];
     std::sort(points.begin(), points.end(),
-              [](const Split& x, const Split& y) { return x.t < y.t; });
+              [](const CornerSplit& x, const CornerSplit& y) { return x.t < y.t; });
     const std::uint32_t a = tri[split], b = tri[(split + 1) % 3], c = tri[(split + 2) % 3];
     std::uint32_t prev = a;
-    for (const Split& p : points) {
+    for (const CornerSplit& p : points) {
       // The new vertex: the other side's position, with the attributes of the nearer end.
       const std::uint32_t from = p.t < 0.5 ? a : b;
       const auto v = std::uint32_t(mesh.positions.size());
