@@ -453,11 +453,11 @@ TEST(GltfImport, EachNodeInstanceWithAMeshIsAnObject) {
   TempDir dir;
   // The mesh (two primitives) instanced by two nodes under one parent: flattened into two
   // objects of two meshes each.
-  std::string json = triangleGltfJson(68, "");
-  json.replace(json.find(R"("nodes":[{"translation":[6378137.5,0,0],"children":[1]},)"),
+  std::string gltf = triangleGltfJson(68, "");
+  gltf.replace(gltf.find(R"("nodes":[{"translation":[6378137.5,0,0],"children":[1]},)"),
                std::string(R"("nodes":[{"translation":[6378137.5,0,0],"children":[1]},)").size(),
                R"("nodes":[{"translation":[6378137.5,0,0],"children":[1,2]},{"mesh":0},)");
-  auto model = importModel(dir.write("two.glb", glb(json, triangleBin())));
+  auto model = importModel(dir.write("two.glb", glb(gltf, triangleBin())));
   ASSERT_TRUE(model.ok()) << model.message();
   ASSERT_EQ(model->meshes.size(), 4u);
   ASSERT_EQ(model->objectRuns.size(), 4u);
