@@ -36,9 +36,12 @@ const BACKGROUND = [1, 0, 1];
 const MIN_PSNR = { three: 40, cesium: 30 };
 const MAX_COVERAGE_DIFF = { three: 0.001, cesium: 0.005 };
 
+// Under CI a missing piece fails the test, unless scripts/test.sh found the registry out of reach
+// (HLODR_TILES_SKIP) and said so.
 function skip(reason) {
-  console.log(`tiles.viewers: ${process.env.CI ? 'failed' : 'skipped'}: ${reason}`);
-  process.exit(process.env.CI ? 1 : 77);
+  const fail = process.env.CI && !process.env.HLODR_TILES_SKIP;
+  console.log(`tiles.viewers: ${fail ? 'failed' : 'skipped'}: ${reason}`);
+  process.exit(fail ? 1 : 77);
 }
 if (!fs.existsSync(CHROMIUM)) skip(`no Chromium at ${CHROMIUM}`);
 for (const m of ['playwright-core', 'three', '3d-tiles-renderer', 'cesium', 'gltf-validator'])
