@@ -192,8 +192,8 @@ hlod::Result<VisibleCount> GpuNodeRenderer::countVisible(const hlod::Camera& cam
                                                          std::span<const std::uint32_t> nodes,
                                                          std::span<const hlod::NodeDraw> draws) {
   if (!idBuffer_) {
-    auto b = IdBuffer::create(renderer_->gl(), renderer_->options().width,
-                              renderer_->options().height);
+    auto b =
+        IdBuffer::create(renderer_->gl(), renderer_->options().width, renderer_->options().height);
     if (!b) return b.error();
     idBuffer_ = std::move(*b);
   }
@@ -228,7 +228,8 @@ hlod::Status GpuNodeRenderer::drawPart(std::span<const std::size_t> positions) {
   for (std::size_t i : positions) {
     if (i >= setup_.front.size()) return hlod::makeError("part position outside the front");
     const GpuMesh* m = meshFor(i, queryMesh);
-    if (!m) return hlod::makeError("node " + std::to_string(setup_.front[i]) + " is not on the GPU");
+    if (!m)
+      return hlod::makeError("node " + std::to_string(setup_.front[i]) + " is not on the GPU");
     meshes.push_back(m);
   }
   renderer_->drawPart(setup_.view, meshes, queryMesh);

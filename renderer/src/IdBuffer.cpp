@@ -23,7 +23,7 @@ void main() { id = uvec2(uMeshId, uint(gl_PrimitiveID) + 1u); }
 }  // namespace
 
 hlod::Result<std::unique_ptr<IdBuffer>> IdBuffer::create(const GlFunctions& gl, int width,
-                                                          int height) {
+                                                         int height) {
   std::unique_ptr<IdBuffer> b(new IdBuffer(gl, width, height));
   auto p = ShaderProgram::build(gl, "", kIdVertex, kIdFragment);
   if (!p) return hlod::makeError("id buffer program: " + p.message());
@@ -41,8 +41,7 @@ hlod::Result<std::unique_ptr<IdBuffer>> IdBuffer::create(const GlFunctions& gl, 
   b->framebuffer_ = GlObject::create(gl, GlKind::Framebuffer);
   gl.BindFramebuffer(GL_FRAMEBUFFER, b->framebuffer_.id());
   gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, b->ids_.id(), 0);
-  gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
-                             b->depth_.id());
+  gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, b->depth_.id());
   if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     return hlod::makeError("id buffer framebuffer incomplete");
   return b;

@@ -406,8 +406,8 @@ void Renderer::beginParts(const FrameView& view, const OcclusionDraw* occlusion)
   const auto start = std::chrono::steady_clock::now();
   clearGeometry();
   g.Finish();
-  parts_.cpuMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                      .count();
+  parts_.cpuMs +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 double Renderer::drawPart(const FrameView& view, std::span<const GpuMesh* const> meshes,

@@ -98,8 +98,9 @@ int main(int argc, char** argv) {
     } else if (a == "--size" && i + 1 < argc) {
       if (std::sscanf(argv[++i], "%dx%d", &width, &height) != 2) return 2;
     } else if (a.rfind("--", 0) == 0) {
-      std::fprintf(stderr, "usage: occlusion_bench [STORE] [--frames N] [--budget-ms MS] "
-                           "[--size WxH] [--part culling|loading|prediction|all]\n");
+      std::fprintf(stderr,
+                   "usage: occlusion_bench [STORE] [--frames N] [--budget-ms MS] "
+                   "[--size WxH] [--part culling|loading|prediction|all]\n");
       return 2;
     } else {
       store = a;
@@ -129,8 +130,8 @@ int main(int argc, char** argv) {
   base.height = height;
   base.budgetMs = budgetMs;
   base.recentFrames = 0;
-  std::printf("store %s, %dx%d, lakhia %.0f ms, settled at 30 fps\n", store.c_str(), width,
-              height, budgetMs);
+  std::printf("store %s, %dx%d, lakhia %.0f ms, settled at 30 fps\n", store.c_str(), width, height,
+              budgetMs);
   for (int which = 0; which < 2; ++which) {
     const hlod::CameraPath& path = which == 0 ? *walkFly : *turn;
     std::vector<Phase> phases =
@@ -201,20 +202,21 @@ int main(int argc, char** argv) {
     for (const Phase& p : phases) {
       if (p.frames == 0) continue;
       const double n = p.frames;
-      std::printf("%-12s %6d %9.2f %9.2f %8.0fk %8.0fk %8.1f %8.1f %7.2f %7.0f\n", p.name,
-                  p.frames, p.visible > 0 ? p.pvs / p.visible : 0.0,
-                  p.frustumVisible > 0 ? p.frustumPvs / p.frustumVisible : 0.0,
-                  p.drawnOn / n / 1e3, p.drawnOff / n / 1e3, p.msOn / n, p.msOff / n,
-                  p.occlusionMs / n, p.queries / n);
-      std::printf("%-12s triangles drawn on visible nodes: on %.0fk, off %.0fk (of %.0fk, "
-                  "%.0fk drawn)\n",
-                  "", p.visibleNodeTrisOn / n / 1e3, p.visibleNodeTrisOff / n / 1e3,
-                  p.drawnOn / n / 1e3, p.drawnOff / n / 1e3);
+      std::printf("%-12s %6d %9.2f %9.2f %8.0fk %8.0fk %8.1f %8.1f %7.2f %7.0f\n", p.name, p.frames,
+                  p.visible > 0 ? p.pvs / p.visible : 0.0,
+                  p.frustumVisible > 0 ? p.frustumPvs / p.frustumVisible : 0.0, p.drawnOn / n / 1e3,
+                  p.drawnOff / n / 1e3, p.msOn / n, p.msOff / n, p.occlusionMs / n, p.queries / n);
+      std::printf(
+          "%-12s triangles drawn on visible nodes: on %.0fk, off %.0fk (of %.0fk, "
+          "%.0fk drawn)\n",
+          "", p.visibleNodeTrisOn / n / 1e3, p.visibleNodeTrisOff / n / 1e3, p.drawnOn / n / 1e3,
+          p.drawnOff / n / 1e3);
     }
-    std::printf("popping (pixels differing from the same front unculled): median %.4f%%, worst "
-                "%.4f%%\n",
-                100.0 * median(popping),
-                100.0 * (popping.empty() ? 0.0 : *std::max_element(popping.begin(), popping.end())));
+    std::printf(
+        "popping (pixels differing from the same front unculled): median %.4f%%, worst "
+        "%.4f%%\n",
+        100.0 * median(popping),
+        100.0 * (popping.empty() ? 0.0 : *std::max_element(popping.begin(), popping.end())));
     std::fflush(stdout);
   }
   return 0;

@@ -23,10 +23,10 @@ CameraSample at(double time, glm::dvec3 position, glm::dvec3 target, double fovY
 }  // namespace
 
 TEST(MotionPredictor, AStraightWalkIsPredictedWhereItWillBeHalfASecondOnWithAWiderView) {
-  MotionPredictor p;  // c_ahead 0.5 s, c_widen 0.25
+  MotionPredictor p;                      // c_ahead 0.5 s, c_widen 0.25
   EXPECT_FALSE(p.predict().has_value());  // nothing seen yet
   p.observe(at(0.0, {0, 0, 1.7}, {100, 0, 1.7}));
-  EXPECT_FALSE(p.predict().has_value());  // one frame is no motion
+  EXPECT_FALSE(p.predict().has_value());               // one frame is no motion
   p.observe(at(0.1, {0.2, 0, 1.7}, {100.2, 0, 1.7}));  // 2 m/s along x
   p.observe(at(0.2, {0.4, 0, 1.7}, {100.4, 0, 1.7}));
   const auto q = p.predict();

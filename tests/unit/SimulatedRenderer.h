@@ -3,12 +3,12 @@
 // cost per frame plus a cost per triangle, its uploads cost per node, so that realtime and
 // settled frames, the upload budget and the v_time feedback are tested with a simulated clock.
 // Drawing a node that is not on the GPU is an Error (the frame driver must never do it).
+#include <algorithm>
 #include <deque>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <span>
-#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -54,7 +54,7 @@ class SimulatedRenderer final : public NodeRenderer {
   // A visibility oracle for occlusion queries: whether a node would show any pixel. Unset:
   // everything is visible. A query over a box or a draw reports 100 samples for a visible node.
   std::function<bool(std::uint32_t)> hidden;
-  double msPerBoxQuery = 0.01;  // the box pass: per box drawn in a query
+  double msPerBoxQuery = 0.01;                  // the box pass: per box drawn in a query
   std::vector<std::uint32_t> lastQueriedBoxes;  // every box of the last draw's box pass
 
   std::vector<OcclusionResult> occlusionResults() override { return std::exchange(answers_, {}); }
@@ -69,7 +69,8 @@ class SimulatedRenderer final : public NodeRenderer {
     if (occlusion) {
       auto seen = [&](std::uint32_t n) { return !hidden || !hidden(n); };
       for (std::size_t i = 0; i < front.size(); ++i)
-        if (occlusion->queryDraw.at(i)) answers_.push_back({{front[i]}, seen(front[i]) ? 100u : 0u});
+        if (occlusion->queryDraw.at(i))
+          answers_.push_back({{front[i]}, seen(front[i]) ? 100u : 0u});
       for (const auto& batch : occlusion->boxBatches) {
         const bool any = std::any_of(batch.begin(), batch.end(), seen);
         answers_.push_back({batch, any ? 100u : 0u});

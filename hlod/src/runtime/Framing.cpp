@@ -53,8 +53,7 @@ std::array<glm::dvec3, 8> corners(const Aabb& b) {
 }  // namespace
 
 Camera frameBounds(const Aabb& bounds, const UpFrame& frame, const glm::dvec3& direction,
-                   double fovY,
-                   double aspect) {
+                   double fovY, double aspect) {
   assert(fovY > 0.0 && fovY < 180.0 && aspect > 0.0);
   Camera cam;
   cam.up = frame.up;

@@ -44,7 +44,7 @@ constexpr Named kLakhiaDoubles[] = {
 constexpr Named kOthers[] = {
     {"c_hystRefine", 0.0, 1e6}, {"ssePixels", 0.1, 1000.0},    {"splatPixels", 0.0, 10000.0},
     {"c_splat", 0.0, 1000.0},   {"quadtreeCulling", 0.0, 1.0}, {"splats", 0.0, 1.0},
-    {"progressive", 0.0, 1.0},  {"c_occludedLoad", 0.0, 1.0}, {"c_occludedKeepFrames", 0.0, 1e6},
+    {"progressive", 0.0, 1.0},  {"c_occludedLoad", 0.0, 1.0},  {"c_occludedKeepFrames", 0.0, 1e6},
 };
 
 bool isSwitch(std::string_view name) {

@@ -32,9 +32,7 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
   std::uint64_t gpuBytes() const override { return residency_.gpuBytes(); }
   std::uint32_t takeGpuEvictions() override { return residency_.takeEvictions(); }
   void setGpuBudget(std::uint64_t bytes) override;
-  bool pendingOrOnGpu(std::uint32_t node) const override {
-    return residency_.pendingOrOnGpu(node);
-  }
+  bool pendingOrOnGpu(std::uint32_t node) const override { return residency_.pendingOrOnGpu(node); }
   bool canDrawInParts() const override { return renderer_->canDrawInParts(); }
   hlod::Status beginParts(const hlod::Camera& camera, std::span<const std::uint32_t> front,
                           std::span<const hlod::NodeDraw> draws,
@@ -66,7 +64,7 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
   std::unique_ptr<Renderer> renderer_;
   GpuResidency residency_;
   std::unique_ptr<hlod::GpuMemoryManager> memory_;  // the GPU budget, when one is set
-  hlod::Aabb bounds_;  // of the whole model: the clip planes
+  hlod::Aabb bounds_;                               // of the whole model: the clip planes
   bool showOcclusion_ = false;
   // The nodes of the last draw's queries, to map their answers back: per mesh drawn, its node;
   // per box batch issued, its nodes; nodes whose box was not queried (camera or near plane).

@@ -30,7 +30,8 @@ class IdBuffer {
   VisibleCount count(const FrameView& view, std::span<const GpuMesh* const> meshes);
 
  private:
-  IdBuffer(const GlFunctions& gl, int width, int height) : gl_(gl), width_(width), height_(height) {}
+  IdBuffer(const GlFunctions& gl, int width, int height)
+      : gl_(gl), width_(width), height_(height) {}
   const GlFunctions& gl_;
   int width_, height_;
   ShaderProgram program_;

@@ -70,10 +70,10 @@ struct ResourceCounts {
 
 // A frame's occlusion queries (OcclusionQueries.h), in drawFrame's terms.
 struct OcclusionDraw {
-  std::span<const std::uint8_t> queryMesh;               // per mesh: 1 to wrap its draw
-  std::span<const std::vector<hlod::Aabb>> boxBatches;   // one query each, after the geometry
-  std::span<const GpuMesh* const> shadowCasters;         // hidden, but still casting shadows
-  std::span<const hlod::Aabb> tint;                      // debug view: boxes tinted over the frame
+  std::span<const std::uint8_t> queryMesh;              // per mesh: 1 to wrap its draw
+  std::span<const std::vector<hlod::Aabb>> boxBatches;  // one query each, after the geometry
+  std::span<const GpuMesh* const> shadowCasters;        // hidden, but still casting shadows
+  std::span<const hlod::Aabb> tint;                     // debug view: boxes tinted over the frame
 };
 
 class Renderer {

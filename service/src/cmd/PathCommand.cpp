@@ -102,8 +102,8 @@ int runPath(const Argv& argv) {
 }
 
 const std::set<std::string> kPathRunOptions = {
-    "budget-ms", "selector", "mode",        "memory-mb", "fps",       "io-mbps", "io-latency-ms",
-    "frames",    "upload-ms", "params",     "io-requests", "splats",  "occlusion", "gpu-mb"};
+    "budget-ms", "selector",  "mode",   "memory-mb",   "fps",    "io-mbps",   "io-latency-ms",
+    "frames",    "upload-ms", "params", "io-requests", "splats", "occlusion", "gpu-mb"};
 const std::set<std::string> kPathRunFlags = {"prefetch", "plots", "show-occlusion"};
 
 hlod::Result<Args> parseWithPathRun(const Argv& argv, std::set<std::string> flags,

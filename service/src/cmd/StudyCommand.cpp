@@ -46,11 +46,10 @@ const char* const kStudyUsage =
     "  --quiet                 no progress line\n";
 
 int runStudy(const Argv& argv) {
-  auto args =
-      Args::parse(argv, {"quiet", "unlit", "no-textures", "fog"},
-                  {"output", "path", "kind", "budgets", "selectors", "sse-px", "size", "frames",
-                   "fps", "mode", "strips", "memory-mb", "scene", "params", "splats",
-                   "occlusion", "reference-mb"});
+  auto args = Args::parse(
+      argv, {"quiet", "unlit", "no-textures", "fog"},
+      {"output", "path", "kind", "budgets", "selectors", "sse-px", "size", "frames", "fps", "mode",
+       "strips", "memory-mb", "scene", "params", "splats", "occlusion", "reference-mb"});
   if (!args) return commandError("study", args.message() + "\n" + expandUsage(kStudyUsage), 2);
   if (args->positionals().size() != 1)
     return commandError(

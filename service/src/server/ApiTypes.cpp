@@ -8,8 +8,8 @@ std::string RenderSettings::key() const {
   char buf[200];
   std::snprintf(buf, sizeof buf, "%dx%d/%g/%s/%g/%llu/%s/%llu/%d%d", width, height, budgetMs,
                 selector.c_str(), ssePx, static_cast<unsigned long long>(memoryCapBytes),
-                std::string(hlod::occlusionModeName(occlusion)).c_str(), static_cast<unsigned long long>(gpuBudgetBytes),
-                int(showOcclusion), int(predict));
+                std::string(hlod::occlusionModeName(occlusion)).c_str(),
+                static_cast<unsigned long long>(gpuBudgetBytes), int(showOcclusion), int(predict));
   return buf + ("/" + effectsKey);
 }
 
@@ -30,9 +30,9 @@ nlohmann::json RenderSettings::json() const {
 }
 
 const std::set<std::string>& renderSettingFields() {
-  static const std::set<std::string> fields = {
-      "width", "height", "budgetMs", "selector", "ssePx", "memoryMb", "occlusion", "gpuMb",
-      "showOcclusion", "predict"};
+  static const std::set<std::string> fields = {"width",         "height",   "budgetMs",  "selector",
+                                               "ssePx",         "memoryMb", "occlusion", "gpuMb",
+                                               "showOcclusion", "predict"};
   return fields;
 }
 

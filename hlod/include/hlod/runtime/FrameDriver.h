@@ -239,9 +239,9 @@ class FrameDriver {
   MotionPredictor predictor_;
   OcclusionCulling occlusion_;
   OcclusionAuto occlusionAuto_;
-  bool occlusionRan_ = false;          // the last frame culled (its answers are due now)
-  double occlusionMs_ = 0.0;           // the last culling frame's box pass, reserved like a pass
-  bool haveLastSample_ = false;        // lastSample_ holds the previous frame's camera
+  bool occlusionRan_ = false;    // the last frame culled (its answers are due now)
+  double occlusionMs_ = 0.0;     // the last culling frame's box pass, reserved like a pass
+  bool haveLastSample_ = false;  // lastSample_ holds the previous frame's camera
   CameraSample lastSample_;
 };
 

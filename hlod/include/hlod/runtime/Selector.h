@@ -84,7 +84,7 @@ struct Selection {
   std::uint32_t upToggles = 0;    // nodes drawn last frame, replaced by their children now
   std::uint32_t downToggles = 0;  // nodes whose children were drawn last frame, drawn now
   std::uint32_t fogCulled = 0;    // visible nodes left out: wholly beyond View::fogCullDistance
-  std::uint32_t coarserBecauseNotResident = 0;    // drawn coarser: a visible child not resident
+  std::uint32_t coarserBecauseNotResident = 0;  // drawn coarser: a visible child not resident
   std::vector<std::uint32_t> notResident;  // those children: what the frame waited to refine into
   // Occlusion culling (View::occlusion): the nodes in the frustum that the walk left out, each
   // with its subtree, because a query found its box hidden. Their boxes are queried again.
@@ -373,10 +373,10 @@ class Selector {
   double fogCullDistance_ = std::numeric_limits<double>::infinity();
   double lastEstimatedCost_ = 0.0;
   std::uint32_t maxLevel_ = 0;
-  std::vector<std::uint32_t> drawnFrame_;     // last frame each node was drawn
-  std::vector<std::uint32_t> drawnBefore_;    // drawnFrame_ before markDrawn set it this frame
-  std::vector<std::uint32_t> refinedFrame_;   // last frame each node was replaced by children
-  std::vector<std::uint32_t> refinedBefore_;  // refinedFrame_ before markRefined set it
+  std::vector<std::uint32_t> drawnFrame_;       // last frame each node was drawn
+  std::vector<std::uint32_t> drawnBefore_;      // drawnFrame_ before markDrawn set it this frame
+  std::vector<std::uint32_t> refinedFrame_;     // last frame each node was replaced by children
+  std::vector<std::uint32_t> refinedBefore_;    // refinedFrame_ before markRefined set it
   const OcclusionOracle* occlusion_ = nullptr;  // this frame's View::occlusion
   std::vector<std::uint32_t> occludedFrame_;    // last frame each node was found occluded
   void applyOcclusionToLoads(Selection& s) const;
