@@ -44,7 +44,10 @@ tilesetcheck::ContentPositions positionsIn(const fs::path& dir) {
     g.folder = dir;
     g.baseDir = (dir / uri).parent_path();
     auto scene = importGltfBytes(g);
-    if (!scene) return false;
+    if (!scene) {
+      ADD_FAILURE() << scene.error().message;
+      return false;
+    }
     for (const Mesh& m : scene->model.meshes)
       for (const glm::dvec3& p : m.positions) out.push_back(yUpToZUp().apply(p));
     return !out.empty();

@@ -151,7 +151,7 @@ std::vector<std::byte> encodeGlb(const GlbContent& content) {
     } else {
       image = {{"uri", content.image.uri}};
     }
-    gltf["images"] = {image};
+    gltf["images"] = nlohmann::json::array({image});
   }
   gltf["asset"] = {{"version", "2.0"}, {"generator", "hlodr"}};
   gltf["scene"] = 0;
@@ -160,7 +160,7 @@ std::vector<std::byte> encodeGlb(const GlbContent& content) {
       {"mesh", 0},
       {"translation", {content.translation.x, content.translation.y, content.translation.z}}};
   if (!content.extras.is_null()) node["extras"] = content.extras;
-  gltf["nodes"] = {node};
+  gltf["nodes"] = nlohmann::json::array({node});
   gltf["materials"] = {{{"pbrMetallicRoughness", pbr}, {"doubleSided", !mesh.oneSided}}};
   gltf["meshes"] = {{{"primitives",
                       {{{"attributes", attributes},

@@ -324,9 +324,11 @@ class Reader {
         if (t.contains("children") && t["children"].is_array() && !t["children"].empty())
           return makeError(name + ": points to an external tileset and has children");
         std::error_code ec;
-        auto s = readTileset(fs::canonical(*file, ec), name + " -> " + uri, index,
-                             tree_.tiles[index].transform, tree_.tiles[index].add, depth + 1,
-                             nesting + 1);
+        // Copies: reading the external tileset adds tiles, which moves tree_.tiles.
+        const glm::dmat4 transform = tree_.tiles[index].transform;
+        const std::optional<bool> add = tree_.tiles[index].add;
+        auto s = readTileset(fs::canonical(*file, ec), name + " -> " + uri, index, transform, add,
+                             depth + 1, nesting + 1);
         if (!s) return s;
         continue;
       }
@@ -394,7 +396,7 @@ class Reader {
   Status readImplicit(const nlohmann::json& it, const std::vector<std::string>& uris,
                       const fs::path& dir, std::uint32_t root, std::uint32_t depth,
                       const AxisMap& up) {
-    const std::string& name = tree_.tiles[root].name;
+    const std::string name = tree_.tiles[root].name;  // a copy: tiles are added below
     if (!it.is_object()) return makeError(name + ": implicitTiling is not an object");
     const std::string scheme = it.value("subdivisionScheme", "");
     unsigned branching = 0;
