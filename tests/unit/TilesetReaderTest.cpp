@@ -130,7 +130,7 @@ TEST(TilesetReader, BrokenTilesAreErrorsThatNameTheTile) {
 TEST(TilesetReader, OversizedTilesetsStopAtTheLimitNamingTheTile) {
   TempDir dir;
   dir.write("a.glb", squareGlb(0, 0, 0, 1));
-  nlohmann::json children = nlohmann::json::array();
+  std::vector<nlohmann::json> children;
   for (int i = 0; i < 20; ++i) children.push_back(tile("a.glb", 0.0));
   dir.write("tileset.json", tileset(tile("a.glb", 1.0, children)).dump());
   TilesetLimits limits;

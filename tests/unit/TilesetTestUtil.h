@@ -3,6 +3,7 @@
 // GLB, and a tileset folder to write them into.
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -62,9 +63,10 @@ inline std::string b3dm(const std::string& glb, const nlohmann::json& featureTab
   return out + ft + fb + bt + glb;
 }
 
-// A tile with a box and content.
+// A tile with a box and content. Children in a vector: clang reads a json parameter given as
+// {child} as a copy of child, gcc as an array of one.
 inline nlohmann::json tile(const std::string& uri, double error,
-                           nlohmann::json children = nlohmann::json::array()) {
+                           std::vector<nlohmann::json> children = {}) {
   nlohmann::json t = {{"boundingVolume", {{"box", {0, 0, 0, 100, 0, 0, 0, 100, 0, 0, 0, 100}}}},
                       {"geometricError", error}};
   if (!uri.empty()) t["content"] = {{"uri", uri}};
