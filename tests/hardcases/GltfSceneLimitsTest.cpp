@@ -29,7 +29,7 @@ using nlohmann::json;
 #ifdef HLODR_UNDER_ASAN
 const std::string kLimits =
     "export ASAN_OPTIONS=\"$ASAN_OPTIONS:hard_rss_limit_mb=4000:max_allocation_size_mb=4000:"
-    "allocator_may_return_null=1\"; timeout 120";
+    "allocator_may_return_null=1\"; timeout 400";  // ASan is 3-4 times slower; CI runs 2 at once
 #else
 const std::string kLimits = "ulimit -v 4000000; timeout 120";
 #endif
