@@ -40,12 +40,7 @@ scripts/build.sh --sanitize
   ctest --test-dir build-asan --output-on-failure -j"$(nproc)" --timeout 900 -LE 'web|tiles')
 echo "test: the service tests built with ThreadSanitizer (clang)"
 scripts/build.sh --tsan
-# Report-only for now: the run stops at lock reports inside libglvnd (libGLX, libGLdispatch),
-# which TSan cannot follow in uninstrumented libraries (docs/known-issues.md). Its findings are
-# printed; they do not fail the run until the suppressions are complete.
-if ! (. scripts/sanitize-env.sh && ctest --test-dir build-tsan --output-on-failure -j"$(nproc)" \
-  --timeout 900 -L service); then
-  echo "test: WARNING: ThreadSanitizer reported findings (docs/known-issues.md); not failing the run"
-fi
+(. scripts/sanitize-env.sh && ctest --test-dir build-tsan --output-on-failure -j"$(nproc)" \
+  --timeout 900 -L service)
 echo "test: fuzz smoke, 20 s per target"
 scripts/fuzz.sh 20
