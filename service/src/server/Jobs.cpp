@@ -66,6 +66,7 @@ class JobSink final : public hlod::FrameSink {
     job_.addFrame(r);
     metrics_.add("hlodr_frames_total", "kind=\"job\"");
     metrics_.observeFrame(r.gpuMs * 1e-3);
+    RenderWorker::yieldGl();  // a session's frame may go between two of the path's
     return hlod::Ok{};
   }
   hlod::Status finish() override { return hlod::Ok{}; }
@@ -436,7 +437,10 @@ ApiResult<nlohmann::json> JobManager::submitStudy(const std::shared_ptr<Scene>& 
     const nlohmann::json described = job->json()["settings"];
     auto report = service::runStudy(
         job->scene->store, *shared, job->study, job->dir, described,
-        [&](const std::string& what, double fraction) { job->setProgress(fraction, what); },
+        [&](const std::string& what, double fraction) {
+          job->setProgress(fraction, what);
+          RenderWorker::yieldGl();  // a frame done: sessions may draw between two
+        },
         &job->cancel, &gl);
     if (report)
       job->setState(JobState::Done);

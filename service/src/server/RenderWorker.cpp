@@ -1,8 +1,64 @@
 #include "server/RenderWorker.h"
 
+#include <cstdint>
 #include <future>
 
 namespace service::server {
+namespace {
+
+// The process's GL turn: one worker at a time issues GL calls. Mesa's llvmpipe (Debian 12's
+// 22.3) crashed inside glDrawElements when several contexts drew on their own threads at once
+// (docs/known-issues.md), and it shares one rasteriser among its contexts anyway. A ticket
+// lock: workers get their turns in the order they asked, so a path job that yields between
+// frames cannot take the next turn back before a waiting session frame.
+class GlTurn {
+ public:
+  void acquire() {
+    std::unique_lock lock(mutex_);
+    const std::uint64_t ticket = next_++;
+    cv_.wait(lock, [&] { return serving_ == ticket; });
+  }
+  void release() {
+    {
+      std::lock_guard lock(mutex_);
+      ++serving_;
+    }
+    cv_.notify_all();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::uint64_t next_ = 0, serving_ = 0;
+};
+
+GlTurn& glTurn() {
+  static GlTurn turn;
+  return turn;
+}
+thread_local bool holdsGlTurn = false;
+
+class HeldGlTurn {
+ public:
+  HeldGlTurn() {
+    glTurn().acquire();
+    holdsGlTurn = true;
+  }
+  ~HeldGlTurn() {
+    holdsGlTurn = false;
+    glTurn().release();
+  }
+  HeldGlTurn(const HeldGlTurn&) = delete;
+  HeldGlTurn& operator=(const HeldGlTurn&) = delete;
+};
+
+}  // namespace
+
+void RenderWorker::yieldGl() {
+  if (!holdsGlTurn) return;
+  glTurn().release();
+  glTurn().acquire();
+}
 
 hlod::Result<std::unique_ptr<RenderWorker>> RenderWorker::start(int index,
                                                                 renderer::Backend backend) {
@@ -24,12 +80,16 @@ RenderWorker::~RenderWorker() {
 }
 
 void RenderWorker::run(renderer::Backend backend, std::promise<hlod::Status>* started) {
-  auto context = renderer::createContext(backend);
+  auto context = [&] {
+    const HeldGlTurn turn;
+    auto made = renderer::createContext(backend);
+    if (made) info_ = (*made)->info();
+    return made;
+  }();
   if (!context) {
     started->set_value(context.error());
     return;
   }
-  info_ = (*context)->info();
   started->set_value(hlod::Ok{});
   for (;;) {
     Task task;
@@ -41,13 +101,17 @@ void RenderWorker::run(renderer::Backend backend, std::promise<hlod::Status>* st
       tasks_.pop_front();
       ++running_;
     }
-    (*context)->makeCurrent();
-    task(**context);
+    {
+      const HeldGlTurn turn;
+      (*context)->makeCurrent();
+      task(**context);
+    }
     std::lock_guard lock(mutex_);
     --running_;
   }
   // What the tasks left bound to this context (sessions) was destroyed by them; the context
   // goes now, on its own thread.
+  const HeldGlTurn turn;
   context->reset();
 }
 

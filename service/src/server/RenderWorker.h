@@ -33,6 +33,9 @@ class RenderWorker {
   // Runs the tasks already queued, then ends the thread (its context dies with it).
   void stop();
   const renderer::ContextInfo& info() const { return info_; }
+  // Workers take turns at GL, a task at a time. A long task (a path job, a study) calls this
+  // between its frames to let the others have a turn; elsewhere it does nothing.
+  static void yieldGl();
   int index() const { return index_; }
 
  private:
