@@ -2,6 +2,7 @@
 // "@@FILE name@@" (a plain name: letters, digits, '.', '-', '_'): contents (glb, b3dm, cmpt),
 // external tilesets and subtrees. The folder is imported as `hlodr build tileset.json` does, with
 // small limits; a store that results must open and every node must decode.
+#include <cstdio>
 #include <set>
 #include <vector>
 
@@ -52,7 +53,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::report("buildStoreFromTileset", r);
   if (!r.ok()) return 0;
   auto opened = hlod::NodeStore::open(store);
-  if (!opened.ok()) std::abort();  // a store the import wrote must read back
+  if (!opened.ok()) {  // a store the import wrote must read back
+    std::fprintf(stderr, "the imported store does not open: %s\n", opened.message().c_str());
+    std::abort();
+  }
   const hlod::Skeleton& s = (*opened)->skeleton();
   if (s.nodes.size() != r->nodes || s.roots.empty()) std::abort();
   for (std::uint32_t n = 0; n < s.nodes.size(); ++n)

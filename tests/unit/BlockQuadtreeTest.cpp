@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <set>
+#include <vector>
 
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/BlockQuadtree.h"
@@ -181,4 +183,22 @@ TEST(BlockQuadtree, ABuiltSkeletonWithAnchorsGetsAGeographicTreeOfTheMedianBlock
   EXPECT_DOUBLE_EQ(m.rect.maxU - m.rect.minU, m.rect.maxV - m.rect.minV);
   EXPECT_EQ(m.blocks.size(), 9u);
   for (const QuadBlock& b : m.blocks) EXPECT_TRUE(inside(m.rect, b.anchor));
+}
+
+TEST(BlockQuadtree, TheSquareAroundAnchorsFarFromTheOriginHoldsThemAll) {
+  // lo + (hi - lo) rounds below hi here: a tileset the fuzzer made had these two anchors, and the
+  // store's codec refused the quadtree it wrote.
+  const std::vector<QuadBlockInput> blocks = {{0, {0.5, 0.5}, {}},
+                                              {1, {0.5, -9.378831972535963e24}, {}}};
+  const QuadRect r = squareAround(blocks);
+  for (const QuadBlockInput& b : blocks) {
+    EXPECT_GE(b.anchor.x, r.minU);
+    EXPECT_LE(b.anchor.x, r.maxU);
+    EXPECT_GE(b.anchor.y, r.minV);
+    EXPECT_LE(b.anchor.y, r.maxV);
+  }
+  // An infinite anchor does not make it loop: the rectangle is then simply not finite.
+  const std::vector<QuadBlockInput> endless = {
+      {0, {0.0, 0.0}, {}}, {1, {0.0, -std::numeric_limits<double>::infinity()}, {}}};
+  EXPECT_FALSE(std::isfinite(squareAround(endless).maxV - squareAround(endless).minV));
 }

@@ -45,7 +45,12 @@ QuadRect squareAround(std::span<const QuadBlockInput> blocks) {
     lo = i ? glm::min(lo, blocks[i].anchor) : blocks[i].anchor;
     hi = i ? glm::max(hi, blocks[i].anchor) : blocks[i].anchor;
   }
-  const double side = std::max({hi.x - lo.x, hi.y - lo.y, 1.0});
+  double side = std::max({hi.x - lo.x, hi.y - lo.y, 1.0});
+  // Far from the origin lo + side may round below hi (the store's codec then finds an anchor
+  // outside the rectangle): grow the side until the square holds every anchor.
+  const bool finite =
+      std::isfinite(lo.x) && std::isfinite(lo.y) && std::isfinite(hi.x) && std::isfinite(hi.y);
+  while (finite && (lo.x + side < hi.x || lo.y + side < hi.y)) side *= 1.0 + 1e-12;
   return {lo.x, lo.y, lo.x + side, lo.y + side};
 }
 
