@@ -1,6 +1,7 @@
 #pragma once
 // Closest-point distance from a point to a set of triangles, through a bounding volume hierarchy
-// (private to metrics/).
+// (the surface metrics use it, and the view-dependent builder measures its local Hausdorff
+// distances with it).
 #include <array>
 #include <cstdint>
 #include <vector>
