@@ -14,6 +14,7 @@
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/City.h"
 #include "hlod/import/Import.h"
+#include "hlod/store/NodeStore.h"
 #include "service/Args.h"
 #include "service/Progress.h"
 
@@ -23,7 +24,7 @@ const char* const kBuildUsage =
     "usage: hlodr build INPUT... -o NAME.hlod [--level-factor 3] [--desired-tris N]\n"
     "                   [--min-leaf-tris N] [--simplifier meshopt|openmesh|parry] [--c-tex X]\n"
     "                   [--max-block-tri N] [--block-size M] [--threads N]\n"
-    "                   [--cells auto|on|off]\n"
+    "                   [--cells auto|on|off] [--vdr]\n"
     "                   [--lod X] [--up x|y|z] [--quiet]\n"
     "\n"
     "Builds the HLOD node store (Lakhia et al. III-A/B) that `hlodr render` streams from disk.\n"
@@ -75,6 +76,11 @@ const char* const kBuildUsage =
     "                       nodes hold more than 200,000 triangles, what a 33 ms frame draws)\n"
     "  --threads N          blocks built at once, 1..256 (default: one per core); memory grows\n"
     "                       with the blocks in flight, the store is the same for any N\n"
+    "  --vdr                also the view-dependent section (vdr.bin; `--selector vdr`): per\n"
+    "                       block a vertex hierarchy of edge collapses (virtual edges between\n"
+    "                       parts closer than 1% of the block's diagonal), each vertex's local\n"
+    "                       Hausdorff error and each collapse's face neighbourhood, cut into a\n"
+    "                       cluster hierarchy (Manocha sec. 3, 3.1; docs/vdr.md)\n"
     "  --lod X              CityJSON: the level of detail to import, as the file names it (1, 2,\n"
     "                       2.2 ...); objects without it are left out (default: each city\n"
     "                       object at its highest)\n"
@@ -98,7 +104,7 @@ std::string formatSeconds(double s) {
 
 int runBuild(const Argv& argv) {
   auto args = Args::parse(
-      argv, {"quiet"},
+      argv, {"quiet", "vdr"},
       {"output", "level-factor", "desired-tris", "desired-tri", "simplifier", "c-tex",
        "max-block-tri", "lod", "up", "min-leaf-tris", "threads", "block-size", "cells"});
   if (!args) {
@@ -139,6 +145,7 @@ int runBuild(const Argv& argv) {
     return 2;
   }
   options.blockSize = *blockSize;
+  options.vdr = args->has("vdr");
   options.simplifier = args->get("simplifier", "meshopt");
   if (options.simplifier != "meshopt" && options.simplifier != "openmesh" &&
       options.simplifier != "parry") {
@@ -262,6 +269,17 @@ int runBuild(const Argv& argv) {
         out->c_str(), built->nodes.size(), built->blockRoots().size(), depth, cellNodes,
         options.levelFactor, options.desiredTri, options.simplifier.c_str(), options.cTex,
         cTexSource.c_str(), hlod::upAxisName(built->up));
+    if (options.vdr)
+      if (auto store = hlod::NodeStore::open(*out)) {
+        std::uint64_t clusters = 0, vertices = 0, bytes = 0;
+        for (const hlod::VdrEntry& e : (*store)->vdrEntries())
+          clusters += e.clusters, vertices += e.vertices, bytes += e.storedSize;
+        std::printf(
+            "view-dependent section: %zu objects, %.2f M hierarchy vertices in %llu clusters, "
+            "%.1f MB stored\n",
+            (*store)->vdrEntries().size(), double(vertices) / 1e6, (unsigned long long)clusters,
+            double(bytes) / 1e6);
+      }
     const hlod::BlockQuadtree& q = built->quadtree;
     const hlod::QuadtreeStats qs = hlod::quadtreeStats(q);
     std::printf(

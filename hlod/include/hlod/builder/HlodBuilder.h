@@ -31,6 +31,8 @@
 #include "hlod/builder/Simplifier.h"
 #include "hlod/geodesy/Geodesy.h"
 #include "hlod/store/NodeStore.h"
+#include "hlod/store/VdrStore.h"
+#include "hlod/vdr/VdrObject.h"
 
 namespace hlod {
 
@@ -80,6 +82,11 @@ struct BuildOptions {
   // Cell nodes above the blocks (builder/CellNodes.h): Auto builds them when the blocks' hlod_0
   // nodes hold more than kCellTriangles in all.
   CellMode cells = CellMode::Auto;
+  // The view-dependent section (`--vdr`, hlod/store/VdrStore.h): per block, its welded mesh's
+  // vertex and cluster hierarchies (hlod/vdr/VdrObject.h), with the block's seam and outline
+  // locked as its nodes lock them, and its texture at full resolution cropped to what it uses.
+  bool vdr = false;
+  vdr::VdrBuildOptions vdrOptions;
 };
 
 // One node of a block's hierarchy, as built in memory (world coordinates, double).
@@ -146,6 +153,9 @@ struct PreparedBlock {
   // The block's sides and seam (as addBlock's): what its cell node locks.
   std::vector<CutPlane> sides;
   std::vector<glm::dvec3> seam;
+  // BuildOptions::vdr: the block's view-dependent object, stored; or why it could not be built.
+  std::optional<StoredVdr> vdr;
+  std::string vdrError;
 };
 
 // Streams blocks into a node store at `dir` (written under a temporary name, renamed in finish).
@@ -177,6 +187,9 @@ class HlodBuilder {
 
  private:
   HlodBuilder() = default;
+  // Adds the block's view-dependent object to out (BuildOptions::vdr).
+  void prepareVdr(const Mesh& block, std::span<const glm::dvec3> seam,
+                  std::span<const CutPlane> sides, PreparedBlock& out) const;
   BuildOptions options_;
   std::unique_ptr<Simplifier> simplifier_;
   std::unique_ptr<NodeStoreWriter> writer_;
