@@ -50,6 +50,10 @@ void fillFromSelection(FrameRecord& r, const Selection& s) {
   r.splatNodes = s.splatNodes;
   r.splats = s.splats;
   r.cellNodes = s.cellsDrawn;
+  r.vertexSplits = s.vertexSplits;
+  r.edgeCollapses = s.edgeCollapses;
+  r.activeClusters = s.activeClusters;
+  r.errorBoundPx = s.errorBoundPx;
 }
 
 bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
@@ -60,7 +64,8 @@ bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
       {"ssao", &FrameRecord::ssaoMs},
       {"ssao-blur", &FrameRecord::ssaoBlurMs},
       {"composite", &FrameRecord::compositeMs},
-      {"outline", &FrameRecord::outlineMs}};
+      {"outline", &FrameRecord::outlineMs},
+      {"refine", &FrameRecord::refineMs}};
   for (const auto& [name, field] : kPasses)
     if (pass == name) {
       r.*field = ms;
@@ -71,7 +76,7 @@ bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
 
 bool isScreenPass(const std::string& pass) {
   return pass == "sky" || pass == "ssao" || pass == "ssao-blur" || pass == "composite" ||
-         pass == "outline";
+         pass == "outline" || pass == "refine";
 }
 
 void fillFromLoader(FrameRecord& r, const LoaderCounters& c) {
@@ -170,6 +175,11 @@ OrderedJson frameObject(const FrameRecord& f) {
           {"splatNodes", f.splatNodes},
           {"splats", f.splats},
           {"cellNodes", f.cellNodes},
+          {"refineMs", finiteOrZero(f.refineMs)},
+          {"vertexSplits", f.vertexSplits},
+          {"edgeCollapses", f.edgeCollapses},
+          {"activeClusters", f.activeClusters},
+          {"errorBoundPx", finiteOrZero(f.errorBoundPx)},
           {"nodesPerLevel", f.nodesPerLevel}};
 }
 

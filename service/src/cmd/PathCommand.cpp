@@ -1,5 +1,5 @@
-// `hlodr path STORE --kind walk-fly|drive|orbit -o PATH.json`: a camera path for a node store,
-// and `hlodr render STORE --path PATH.json -o OUT`: a path run through a Session.
+// `hlodr path STORE --kind walk-fly|drive|orbit|facade -o PATH.json`: a camera path for a node
+// store, and `hlodr render STORE --path PATH.json -o OUT`: a path run through a Session.
 #include <unistd.h>
 
 #include <cmath>
@@ -19,7 +19,7 @@ namespace service::cmd {
 namespace fs = std::filesystem;
 
 const char* const kPathUsage =
-    "usage: hlodr path STORE --kind walk-fly|drive|orbit -o PATH.json [--duration S]\n"
+    "usage: hlodr path STORE --kind walk-fly|drive|orbit|facade -o PATH.json [--duration S]\n"
     "\n"
     "Writes a camera path (JSON keyframes: time, position, target, up, fov) for the model in the\n"
     "node STORE (made by `hlodr build`). Render it with `hlodr render STORE --path PATH.json`.\n"
@@ -157,8 +157,8 @@ int runRenderPath(const Argv& argv) {
   so.selectorParams.splats = *splats;
   so.selector = args->get("selector", "lakhia");
   if (so.selector != "lakhia" && so.selector != "sse" && so.selector != "fs" &&
-      so.selector != "full")
-    return usageError("render", "--selector must be lakhia, sse, fs or full");
+      so.selector != "full" && so.selector != "vdr")
+    return usageError("render", "--selector must be lakhia, sse, fs, full or vdr");
   auto mode = parseMode(args->get("mode", "realtime"));
   if (!mode) return usageError("render", "--" + mode.message());
   so.effects = declared->scene.effects;

@@ -12,7 +12,8 @@
 namespace service::cmd {
 
 const char* const kStudyUsage =
-    "usage: hlodr study STORE (--path PATH.json | --kind walk-fly|drive|orbit) -o DIR [options]\n"
+    "usage: hlodr study STORE (--path PATH.json | --kind walk-fly|drive|orbit|facade) -o DIR "
+    "[options]\n"
     "\n"
     "The accuracy study: for frames spread over the camera path, the full-detail reference and\n"
     "each selector at each budget (SSE at each pixel threshold), with frame time (wall through\n"
@@ -23,7 +24,8 @@ const char* const kStudyUsage =
     "\n"
     "options:\n"
     "  --budgets LIST      frame budgets in ms (default 8,16,33,66,133)\n"
-    "  --selectors LIST    lakhia, sse, fs (default all three)\n"
+    "  --selectors LIST    lakhia, sse, fs, vdr (default lakhia,sse,fs; vdr needs a store\n"
+    "                      built with --vdr)\n"
     "  --sse-px LIST       SSE thresholds in pixels (default 1,2,4,8,16,32)\n"
     "  --size WxH          frame size (default 640x360)\n"
     "  --frames N          frames studied, spread evenly over the path (default 24)\n"
@@ -73,8 +75,8 @@ int runStudy(const Argv& argv) {
   if (!args->has("output"))
     return commandError("study", std::string("-o DIR is required\n") + kStudyUsage, 2);
   if (args->has("path") == args->has("kind"))
-    return commandError("study",
-                        "give the camera path: --path PATH.json or --kind walk-fly|drive|orbit", 2);
+    return commandError(
+        "study", "give the camera path: --path PATH.json or --kind walk-fly|drive|orbit|facade", 2);
   StudyOptions o;
   auto budgets = numberList(args->get("budgets", "8,16,33,66,133"), 0.5, 10000, "budgets");
   auto sse = numberList(args->get("sse-px", "1,2,4,8,16,32"), 0.05, 10000, "sse-px");
@@ -85,8 +87,9 @@ int runStudy(const Argv& argv) {
   o.selectors.clear();
   std::istringstream sels(args->get("selectors", "lakhia,sse,fs"));
   for (std::string s; std::getline(sels, s, ',');) {
-    if (s != "lakhia" && s != "sse" && s != "fs")
-      return commandError("study", "--selectors: '" + s + "' is not one of lakhia, sse, fs", 2);
+    if (s != "lakhia" && s != "sse" && s != "fs" && s != "vdr")
+      return commandError("study", "--selectors: '" + s + "' is not one of lakhia, sse, fs, vdr",
+                          2);
     o.selectors.push_back(s);
   }
   auto size = args->size("size", "640x360", 16, 4096);

@@ -110,6 +110,9 @@ class CameraPath {
 
 Result<CameraPath> makeWalkFlyPath(const Skeleton& skeleton);
 Result<CameraPath> makeDrivePath(const Skeleton& skeleton);
+// A 10 s walk 6 m off the middle of the walk-fly's street, looking 30 degrees towards its east
+// facades (Lakhia's Fig. 1: a facade seen at a slant, near and far at once).
+Result<CameraPath> makeFacadePath(const Skeleton& skeleton);
 // aspect: the width / height the path is meant for (a portrait frame moves the camera back).
 Result<CameraPath> makeOrbitPath(const Skeleton& skeleton, double duration = 30.0,
                                  double fovY = 60.0, double aspect = 16.0 / 9.0);
@@ -117,7 +120,8 @@ Result<CameraPath> makeOrbitPath(const Skeleton& skeleton, double duration = 30.
 // through its position, looking at the target, at its fov, once round in `duration` seconds (a
 // scene file's camera for a path job). An Error when the camera looks straight along the up axis.
 Result<CameraPath> makeOrbitPathFrom(const Camera& start, UpAxis up, double duration = 30.0);
-// "walk-fly", "drive" or "orbit": the generator of that kind (cameraPathKinds lists them).
+// "walk-fly", "drive", "orbit" or "facade": the generator of that kind (cameraPathKinds lists
+// them).
 Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton);
 // The kinds makeCameraPath knows, in the order its messages list them.
 std::vector<std::string_view> cameraPathKinds();

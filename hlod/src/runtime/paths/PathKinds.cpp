@@ -18,6 +18,7 @@ constexpr PathKind kPathKinds[] = {
     {"walk-fly", makeWalkFlyPath},
     {"drive", makeDrivePath},
     {"orbit", [](const Skeleton& skeleton) { return makeOrbitPath(skeleton); }},
+    {"facade", makeFacadePath},
 };
 
 }  // namespace
