@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hlod/runtime/Framing.h"
+#include "hlod/runtime/VdrSelector.h"
 #include "hlod/scene/SceneFile.h"
 #include "hlod/store/NodeStore.h"
 #include "renderer/VideoWriter.h"
@@ -85,20 +86,26 @@ hlod::Status Session::init(renderer::GlContext& context) {
   const hlod::Skeleton& skel = source_->skeleton();
   hlod::SelectorParams sp = options_.selectorParams;
   sp.lakhia.c_targetTime = options_.budgetMs;
-  auto sel = hlod::makeSelector(options_.selector, skel, sp);
-  if (!sel) return sel.error();
-  auto ahead = hlod::makeSelector(options_.selector, skel, sp);
-  if (!ahead) return ahead.error();
-
   renderer::RenderOptions ro;
   ro.width = options_.width;
   ro.height = options_.height;
   ro.effects = options_.effects;
   // Sky, hemisphere light and shadow map stand on it (an earth-centred store's ellipsoid normal).
   ro.up = hlod::modelUpFrame(skel).up;
-  auto r = renderer::GpuNodeRenderer::create(*context_, skel, ro);
-  if (!r) return r.error();
-  renderer_ = std::move(*r);
+  std::unique_ptr<hlod::Selector> selector, ahead;
+  if (options_.selector == "vdr") {
+    if (auto v = initVdr(ro, sp, selector); !v) return v;
+  } else {
+    auto sel = hlod::makeSelector(options_.selector, skel, sp);
+    if (!sel) return sel.error();
+    auto next = hlod::makeSelector(options_.selector, skel, sp);
+    if (!next) return next.error();
+    selector = std::move(*sel);
+    ahead = std::move(*next);
+    auto r = renderer::GpuNodeRenderer::create(*context_, skel, ro);
+    if (!r) return r.error();
+    renderer_ = std::move(*r);
+  }
 
   hlod::LoaderParams lp;
   lp.capBytes = options_.memoryCapBytes;
@@ -125,12 +132,16 @@ hlod::Status Session::init(renderer::GlContext& context) {
   fo.gpuBudgetBytes = options_.gpuBudgetBytes;
   fo.renderWhileLoading = options_.renderWhileLoading;
   fo.predict = options_.predict;
-  renderer_->setShowOcclusion(options_.showOcclusion);
+  // The view-dependent clusters are not culled by queries yet: "vdr" draws without culling.
+  if (vdrRenderer_) fo.occlusion = hlod::OcclusionMode::Off;
+  gpu().setShowOcclusion(options_.showOcclusion);
   // A declared density culls what it hides; a derived one (1 / far) never reaches the model.
   if (options_.effects.fog && options_.effects.fog->density > 0.0)
     fo.fogCullDistance = hlod::fogCullDistance(options_.effects.fog->density);
-  driver_ = std::make_unique<hlod::FrameDriver>(std::move(*sel), std::move(*ahead), *loader_,
-                                                *renderer_, fo);
+  hlod::NodeRenderer& nodes =
+      vdrRenderer_ ? static_cast<hlod::NodeRenderer&>(*vdrRenderer_) : *renderer_;
+  driver_ = std::make_unique<hlod::FrameDriver>(std::move(selector), std::move(ahead), *loader_,
+                                                nodes, fo);
   return driver_->start(options_.knownVTime);
 }
 
@@ -142,6 +153,22 @@ std::string Session::loadFailure() const {
          loader_->lastError() + "); the store is damaged, rebuild it with `hlodr build`";
 }
 
+hlod::Status Session::initVdr(const renderer::RenderOptions& ro, const hlod::SelectorParams& sp,
+                              std::unique_ptr<hlod::Selector>& selector) {
+  const auto* store = dynamic_cast<const hlod::NodeStore*>(source_.get());
+  if (!store)
+    return hlod::makeError("the vdr selector draws a node store's view-dependent section");
+  auto runtime = hlod::vdr::VdrRuntime::open(*store);
+  if (!runtime) return runtime.error();
+  vdr_ = std::move(*runtime);
+  selector = std::make_unique<hlod::VdrSelector>(*vdr_, sp);
+  auto r = renderer::VdrNodeRenderer::create(*context_, *vdr_, ro, options_.vdrMinActiveRatio,
+                                             options_.vdrGpuBudgetBytes);
+  if (!r) return r.error();
+  vdrRenderer_ = std::move(*r);
+  return hlod::Ok{};
+}
+
 Session::~Session() {
   if (loader_) loader_->stop();
   // GL objects are deleted through the context: it must be current while they die.
@@ -149,6 +176,8 @@ Session::~Session() {
   driver_.reset();
   loader_.reset();
   renderer_.reset();
+  vdrRenderer_.reset();
+  vdr_.reset();
 }
 
 hlod::Result<hlod::FrameRecord> Session::renderFrame(const hlod::CameraSample& sample,
@@ -160,12 +189,12 @@ hlod::Result<hlod::FrameRecord> Session::renderFrame(const hlod::CameraSample& s
 
 hlod::Image Session::readback() {
   context_->makeCurrent();
-  return renderer_->readback();
+  return gpu().readback();
 }
 
 hlod::metrics::Mask Session::coverage() {
   context_->makeCurrent();
-  return renderer_->coverage();
+  return gpu().coverage();
 }
 
 hlod::FrameSummary Session::recentSummary() const {

@@ -69,8 +69,9 @@ std::vector<Setting> makeTable() {
           std::string("render STORE, ") + frames),
       row("selector", "selector", "selector", K::Choice, 0, 0, "lakhia", "S",
           "the front selector: lakhia (the time budget), sse (a screen-space error), fs "
-          "(Funkhouser-Sequin) or full (every leaf, the reference)",
-          std::string("render STORE, ") + frames, {"lakhia", "sse", "fs", "full"}),
+          "(Funkhouser-Sequin), full (every leaf, the reference) or vdr (view-dependent "
+          "rendering of a store built with --vdr, under the budget)",
+          std::string("render STORE, ") + frames, {"lakhia", "sse", "fs", "full", "vdr"}),
       row("ssePx", "", "ssePx", K::Number, 0.1, 1000, "16", "PX",
           "the sse selector's threshold in pixels (--params ssePixels=PX on the command line)",
           frames),
@@ -156,7 +157,8 @@ std::vector<Setting> makeTable() {
           "batches, loading and freeing as it goes",
           "study"),
       row("study.selectors", "selectors", "selectors", K::ChoiceList, 0, 0, "lakhia,sse,fs", "LIST",
-          "the selectors studied", "study, POST /api/studies", {"lakhia", "sse", "fs"}),
+          "the selectors studied (vdr needs a store built with --vdr)", "study, POST /api/studies",
+          {"lakhia", "sse", "fs", "vdr"}),
       row("study.size", "size", "", K::Size, 16, 8192, "640x360", "WxH", "frame size in pixels",
           "study"),
       row("study.frames", "frames", "frames", K::Integer, 1, 10000, "24", "N",

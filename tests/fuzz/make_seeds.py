@@ -254,6 +254,69 @@ put("payload", "progression-splats.bin", payload(
     splats=[(0, 0, 0, 0.5, 0, 0, 1, 0, 0), (1, 1, 0, 0.5, 0, 0, 1, 1, 1)]))
 put("payload", "deflated-textured.bin", deflated(payload(quad, [0, 1, 2, 1, 3, 2], uv=True, tex=(4, 2))))
 
+# --- the view-dependent section (format in hlod/include/hlod/store/VdrStore.h): a record raw, a
+# record as vdr.bin stores it (u32 raw size + raw DEFLATE), and an index ---
+NONE = 0xFFFFFFFF
+
+
+def vdr_record(leaves, faces, collapses, errors, stored, uv=False, tex=(0, 0), one_sided=False):
+    """leaves: positions relative to the centre; faces: leaf triples (one wedge per leaf);
+    collapses: (kept, removed) in order; errors: per vertex; stored: per collapse, the list of
+    (face, (c0, c1, c2)) of its neighbourhood. One cluster holds everything."""
+    L, I = len(leaves), len(collapses)
+    V, F, W = L + I, len(faces), L
+    S = sum(len(n) for n in stored)
+    flags = (1 if uv else 0) | (2 if one_sided else 0) | (4 if tex[0] else 0)
+    b = struct.pack("<4sII", b"HLVD", 1, flags)
+    b += struct.pack("<8I", L, V, F, W, S, 1, tex[0], tex[1])
+    b += struct.pack("<3d4fd", 1.0, 2.0, 3.0, 1, 1, 1, 1, min(e for e in errors if e > 0) if any(errors) else 1.0)
+    for p in leaves:
+        b += struct.pack("<3f", *p)
+    for k, r in collapses:
+        b += struct.pack("<2I", k, r)
+    b += struct.pack("<%df" % V, *errors)
+    b += struct.pack("<%df" % V, *([1.5] * V))
+    b += struct.pack("<%dI" % V, *([0] * V))
+    start = [0]
+    for n in stored:
+        start.append(start[-1] + len(n))
+    b += struct.pack("<%dI" % (I + 1), *start)
+    for n in stored:
+        for face, corners in n:
+            b += struct.pack("<4I", face, *corners)
+    b += struct.pack("<%df" % (3 * W), *([0, 0, 1] * W))
+    if uv:
+        for p in leaves:
+            b += struct.pack("<2f", p[0], p[1])
+    b += struct.pack("<%dI" % W, *range(W))
+    b += struct.pack("<%dI" % W, *([0] * W))
+    for f in faces:
+        b += struct.pack("<3I", *f)
+    b += struct.pack("<5I2f", NONE, NONE, NONE, V, 0, 0.0, max(errors))
+    b += bytes(range(4 * tex[0] * tex[1]))
+    return b
+
+
+def vdr_index(entries):
+    b = struct.pack("<8sII", b"HLODVDRI", 1, len(entries))
+    for root, offset, stored, raw in entries:
+        b += struct.pack("<IQQQI", root, offset, stored, raw, 0)
+        b += struct.pack("<6d", 0, 0, 0, 1, 1, 0) + struct.pack("<3I", 2, 5, 1)
+    h = 1469598103934665603
+    for byte in b:
+        h = ((h ^ byte) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+    return b + struct.pack("<Q", h)
+
+
+# A quad whose leaf 1 collapses into leaf 0: the triangle (0, 1, 2) goes, (0, 2, 3) stays.
+quad_record = vdr_record(quad, [(0, 1, 2), (0, 2, 3)], [(0, 1)], [0, 0, 0, 0, 0.5],
+                         [[(0, (0, 1, 2)), (1, (0, 2, 3))]])
+put("vdr", "raw-quad.bin", quad_record)
+put("vdr", "deflated-quad.bin", deflated(quad_record))
+put("vdr", "raw-textured-triangle.bin", vdr_record(tri, [(0, 1, 2)], [], [0, 0, 0], [], uv=True,
+                                                   tex=(2, 2), one_sided=True))
+put("vdr", "index.bin", vdr_index([(0, 0, 100, 200), (3, 100, 50, 80)]))
+
 # --- camera paths ---
 key = lambda t, p, tg, **kw: dict(time=t, position=p, target=tg, **kw)
 put("camera_path", "two-keys.json", json.dumps({"keyframes": [

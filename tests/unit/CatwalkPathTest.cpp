@@ -7,7 +7,7 @@
 #include "hlod/import/Import.h"
 #include "hlod/plant/PowerPlant.h"
 #include "hlod/runtime/CatwalkPath.h"
-#include "metrics/TriangleBvh.h"
+#include "hlod/metrics/TriangleBvh.h"
 
 using namespace hlod;
 

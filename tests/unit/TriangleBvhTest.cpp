@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "metrics/TriangleBvh.h"
+#include "hlod/metrics/TriangleBvh.h"
 
 namespace hlod::metrics {
 namespace {

@@ -9,7 +9,7 @@
 #include <unordered_map>
 
 #include "builder/SimplifierImpl.h"
-#include "metrics/TriangleBvh.h"
+#include "hlod/metrics/TriangleBvh.h"
 
 namespace hlod {
 

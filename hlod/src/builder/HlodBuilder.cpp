@@ -292,12 +292,34 @@ PreparedBlock HlodBuilder::prepareBlock(const Mesh& block, std::span<const glm::
     out.payloads.push_back(storePayload(meshes[k], out.textureOwner[k] == kNoNode));
     meshes[k] = LocalMesh{};
   }
+  if (options_.vdr && !out.nodes.empty()) prepareVdr(block, seam, sides, out);
   return out;
+}
+
+void HlodBuilder::prepareVdr(const Mesh& block, std::span<const glm::dvec3> seam,
+                             std::span<const CutPlane> sides, PreparedBlock& out) const {
+  Mesh welded = weldVertices(block);
+  // Locked as the block's nodes lock it: what other blocks share, and its outline on its sides
+  // (either flag locks: the vertex hierarchy never moves a locked position).
+  BlockBorders borders = blockBorders(welded, seam);
+  std::vector<std::uint32_t> origin(welded.positions.size());
+  for (std::uint32_t v = 0; v < origin.size(); ++v) origin[v] = v;
+  std::vector<std::uint8_t> locked = lockBorder(welded, origin, borders);
+  markOutline(welded, origin, borders, sides, locked);
+  if (welded.texture && welded.texCoords.size() == welded.positions.size())
+    welded.texture = prepareNodeTexture(*welded.texture, welded.texCoords, 1.0);
+  auto object = vdr::buildVdrObject(welded, locked, options_.vdrOptions);
+  if (!object) {
+    out.vdrError = "view-dependent object of a block: " + object.message();
+    return;
+  }
+  out.vdr = storeVdrObject(*object);
 }
 
 Status HlodBuilder::commitBlock(PreparedBlock&& block) {
   inputTriangles_ += block.inputTriangles;
   if (block.nodes.empty()) return Ok{};
+  if (!block.vdrError.empty()) return makeError(block.vdrError);
   if (skeleton_.nodes.size() + block.nodes.size() >= kNoNode) return makeError("too many nodes");
   const auto base = std::uint32_t(skeleton_.nodes.size());
   skeleton_.roots.push_back(base);
@@ -318,6 +340,8 @@ Status HlodBuilder::commitBlock(PreparedBlock&& block) {
     block.payloads[k] = {};
     skeleton_.nodes.push_back(info);
   }
+  if (block.vdr)
+    if (auto s = writer_->appendVdr(std::move(*block.vdr), base); !s) return s;
   ++blockCount_;
   return Ok{};
 }

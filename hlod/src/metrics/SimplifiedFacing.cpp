@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "metrics/TriangleBvh.h"
+#include "hlod/metrics/TriangleBvh.h"
 
 namespace hlod::metrics {
 

@@ -1,4 +1,4 @@
-#include "metrics/TriangleBvh.h"
+#include "hlod/metrics/TriangleBvh.h"
 
 #include <algorithm>
 #include <cassert>

@@ -49,6 +49,10 @@ void fillFromSelection(FrameRecord& r, const Selection& s) {
   r.cellNodes = s.cellsDrawn;
   r.occludedNodes = static_cast<std::uint32_t>(s.occluded.size());
   r.occludedTriangles = s.occludedTriangles;
+  r.vertexSplits = s.vertexSplits;
+  r.edgeCollapses = s.edgeCollapses;
+  r.activeClusters = s.activeClusters;
+  r.errorBoundPx = s.errorBoundPx;
 }
 
 bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
@@ -60,7 +64,8 @@ bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
       {"ssao-blur", &FrameRecord::ssaoBlurMs},
       {"composite", &FrameRecord::compositeMs},
       {"outline", &FrameRecord::outlineMs},
-      {"occlusion", &FrameRecord::occlusionMs}};
+      {"occlusion", &FrameRecord::occlusionMs},
+      {"refine", &FrameRecord::refineMs}};
   for (const auto& [name, field] : kPasses)
     if (pass == name) {
       r.*field = ms;
@@ -71,7 +76,7 @@ bool setPassMs(FrameRecord& r, const std::string& pass, double ms) {
 
 bool isScreenPass(const std::string& pass) {
   return pass == "sky" || pass == "ssao" || pass == "ssao-blur" || pass == "composite" ||
-         pass == "outline";
+         pass == "outline" || pass == "refine";
 }
 
 void fillFromLoader(FrameRecord& r, const LoaderCounters& c) {
@@ -184,6 +189,11 @@ OrderedJson frameObject(const FrameRecord& f) {
           {"gpuBytes", f.gpuBytes},
           {"gpuEvictions", f.gpuEvictions},
           {"wallMs", finiteOrZero(f.wallMs)},
+          {"refineMs", finiteOrZero(f.refineMs)},
+          {"vertexSplits", f.vertexSplits},
+          {"edgeCollapses", f.edgeCollapses},
+          {"activeClusters", f.activeClusters},
+          {"errorBoundPx", finiteOrZero(f.errorBoundPx)},
           {"nodesPerLevel", f.nodesPerLevel}};
 }
 

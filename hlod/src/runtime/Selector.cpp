@@ -226,8 +226,14 @@ Result<std::unique_ptr<Selector>> makeSelector(std::string_view name, const Skel
     s = std::make_unique<FsSelector>(skeleton, params);
   } else if (name == "full") {
     s = std::make_unique<FullSelector>(skeleton, params);
+  } else if (name == "vdr") {
+    // It refines the objects of a store's view-dependent section: a session makes it with them.
+    return makeError(
+        "the vdr selector is made with a store's view-dependent section (a session on a store "
+        "built with --vdr), not from a skeleton");
   } else {
-    return makeError("unknown selector '" + std::string(name) + "' (known: lakhia, sse, fs, full)");
+    return makeError("unknown selector '" + std::string(name) +
+                     "' (known: lakhia, sse, fs, full, vdr)");
   }
   return s;
 }

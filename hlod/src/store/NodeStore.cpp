@@ -46,7 +46,35 @@ Result<std::unique_ptr<NodeStore>> NodeStore::open(const std::filesystem::path& 
     return makeError(payloadPath.string() + " has size " + std::to_string(st.st_size) +
                      ", the skeleton expects " + std::to_string(store->facts_.payloadBytes) +
                      " (truncated or from another build)");
+  std::error_code ec;
+  if (std::filesystem::exists(dir / "vdr.bin", ec)) {
+    store->vdrFile_ = dir / "vdr.bin";
+    auto entries = readVdrIndex(store->vdrFile_, std::uint32_t(store->skeleton_.nodes.size()));
+    if (!entries) return makeError(dir.string() + ": " + entries.message());
+    store->vdr_ = std::move(*entries);
+  }
   return store;
+}
+
+Result<vdr::VdrObject> NodeStore::loadVdrObject(std::size_t i) const {
+  if (i >= vdr_.size()) return makeError("no view-dependent object " + std::to_string(i));
+  return readVdrObject(vdrFile_, vdr_[i]);
+}
+
+Result<std::shared_ptr<const vdr::VdrObject>> NodeStore::sharedVdrObject(std::size_t i) const {
+  if (i >= vdr_.size()) return makeError("no view-dependent object " + std::to_string(i));
+  {
+    std::lock_guard lock(vdrMutex_);
+    if (vdrObjects_.size() == vdr_.size() && vdrObjects_[i]) return vdrObjects_[i];
+  }
+  // Decoded outside the lock: two sessions may decode one object at once; the first kept wins.
+  auto o = readVdrObject(vdrFile_, vdr_[i]);
+  if (!o) return o.error();
+  auto shared = std::make_shared<const vdr::VdrObject>(std::move(*o));
+  std::lock_guard lock(vdrMutex_);
+  vdrObjects_.resize(vdr_.size());
+  if (!vdrObjects_[i]) vdrObjects_[i] = std::move(shared);
+  return vdrObjects_[i];
 }
 
 NodeStore::~NodeStore() {
@@ -146,7 +174,8 @@ Status checkReplaceableStore(const std::filesystem::path& dir) {
   // Anything else there is the user's: never delete it.
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
-    if ((name != "skeleton.bin" && name != "payload.bin") || !entry.is_regular_file(ec))
+    if ((name != "skeleton.bin" && name != "payload.bin" && name != "vdr.bin") ||
+        !entry.is_regular_file(ec))
       return makeError(dir.string() + " holds " + name +
                        ", which is not part of a node store; not replacing the folder "
                        "(give another -o, or remove it yourself)");
@@ -198,6 +227,7 @@ Result<std::unique_ptr<NodeStoreWriter>> NodeStoreWriter::create(const std::file
 
 NodeStoreWriter::~NodeStoreWriter() {
   if (payload_) std::fclose(payload_);
+  if (vdr_) std::fclose(vdr_);
   if (!finished_) {
     std::error_code ec;
     std::filesystem::remove_all(tmp_, ec);
@@ -271,7 +301,29 @@ Result<LocalMesh> NodeStoreWriter::readBack(const NodeInfo& node) const {
   return decodeStored(node, 0, bytes);
 }
 
+Status NodeStoreWriter::appendVdr(StoredVdr&& object, std::uint32_t rootNode) {
+  if (!vdr_) {
+    vdr_ = std::fopen((tmp_ / "vdr.bin").c_str(), "wb");
+    if (!vdr_) return makeError("cannot create " + (tmp_ / "vdr.bin").string());
+  }
+  if (std::fwrite(object.bytes.data(), 1, object.bytes.size(), vdr_) != object.bytes.size())
+    return makeError("cannot write vdr.bin (disk full?)");
+  object.entry.rootNode = rootNode;
+  object.entry.offset = vdrBytes_;
+  vdrBytes_ += object.bytes.size();
+  vdrEntries_.push_back(object.entry);
+  return Ok{};
+}
+
 Status NodeStoreWriter::finish(const Skeleton& skeleton, StoreFacts facts) {
+  if (vdr_) {
+    const std::vector<std::byte> index = encodeVdrIndex(vdrEntries_, vdrBytes_);
+    const bool written = std::fwrite(index.data(), 1, index.size(), vdr_) == index.size() &&
+                         std::fflush(vdr_) == 0 && ::fsync(fileno(vdr_)) == 0;
+    std::fclose(vdr_);
+    vdr_ = nullptr;
+    if (!written) return makeError("cannot write vdr.bin (disk full?)");
+  }
   facts.payloadBytes = payloadBytes_;
   const bool flushed = std::fflush(payload_) == 0 && ::fsync(fileno(payload_)) == 0;
   std::fclose(payload_);
@@ -307,9 +359,10 @@ Status NodeStoreWriter::finish(const Skeleton& skeleton, StoreFacts facts) {
     return makeError("cannot move the store into place at " + dir_.string() + ": " + ec.message());
   }
   if (!old.empty()) {
-    // Only what checkReplaceableStore saw: skeleton.bin and payload.bin.
+    // Only what checkReplaceableStore saw: skeleton.bin, payload.bin and vdr.bin.
     std::filesystem::remove(old / "skeleton.bin", ec);
     std::filesystem::remove(old / "payload.bin", ec);
+    std::filesystem::remove(old / "vdr.bin", ec);
     std::filesystem::remove(old, ec);
   }
   finished_ = true;

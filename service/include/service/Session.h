@@ -24,9 +24,11 @@
 #include "hlod/runtime/PathRun.h"
 #include "hlod/runtime/Selector.h"
 #include "hlod/store/NodeSource.h"
+#include "hlod/vdr/VdrRuntime.h"
 #include "renderer/GlContext.h"
 #include "renderer/GpuNodeRenderer.h"
 #include "renderer/Renderer.h"
+#include "renderer/VdrNodeRenderer.h"
 
 namespace service {
 
@@ -34,7 +36,7 @@ struct SessionOptions {
   int width = 1280;
   int height = 720;
   double budgetMs = 33.0;            // the selector's c_targetTime
-  std::string selector = "lakhia";   // "lakhia", "sse", "fs" or "full"
+  std::string selector = "lakhia";   // "lakhia", "sse", "fs", "full" or "vdr"
   std::uint64_t memoryCapBytes = 0;  // loader cap on decoded payload bytes; 0 = none
   double ioMbps = 0.0;               // emulated link; 0 = unthrottled
   double ioLatencyMs = 0.0;
@@ -54,6 +56,11 @@ struct SessionOptions {
   bool showOcclusion = false;        // debug view: the occluded nodes' boxes tinted
   bool renderWhileLoading = true;    // settled frames drawn while their front loads
   bool predict = false;              // realtime frames without a path prefetch a predicted camera
+  // "vdr": the GPU memory the clusters' arrays may hold over frames (0: no budget), and the
+  // share of a cluster's vertices that must be active for it to be drawn from its vertex array
+  // (renderer::VdrNodeRenderer).
+  std::uint64_t vdrGpuBudgetBytes = 0;
+  double vdrMinActiveRatio = 0.25;
 };
 
 class Session {
@@ -87,7 +94,8 @@ class Session {
   hlod::FrameDriver& driver() { return *driver_; }
   renderer::GpuNodeRenderer& gpu() { return *renderer_; }
   const hlod::Selector& selector() const { return driver_->selector(); }
-  const hlod::Skeleton& skeleton() const { return source_->skeleton(); }
+  // The skeleton the front's nodes belong to: the store's, or with "vdr" the clusters'.
+  const hlod::Skeleton& skeleton() const { return driver_->selector().skeleton(); }
   const renderer::ContextInfo& contextInfo() const { return context_->info(); }
   renderer::GlContext& context() { return *context_; }
   const SessionOptions& options() const { return options_; }
@@ -96,8 +104,8 @@ class Session {
   // Empty while every node loaded; else what a command says and fails with: a node that failed
   // to load was drawn coarser, so the frames show a damaged store, not the model.
   std::string loadFailure() const;
-  std::size_t gpuNodeCount() const { return renderer_->residency().size(); }
-  std::uint64_t gpuBytes() const { return renderer_->residency().gpuBytes(); }
+  std::size_t gpuNodeCount() const { return gpu().residency().size(); }
+  std::uint64_t gpuBytes() const { return gpu().residency().gpuBytes(); }
   // The last recentFrames records, oldest first.
   const std::deque<hlod::FrameRecord>& recent() const { return driver_->recent(); }
   hlod::FrameSummary recentSummary() const;
@@ -107,12 +115,21 @@ class Session {
  private:
   Session() = default;
   hlod::Status init(renderer::GlContext& context);
+  // The selector and the GPU side of "vdr" (view-dependent rendering of the store's section).
+  hlod::Status initVdr(const renderer::RenderOptions& ro, const hlod::SelectorParams& sp,
+                       std::unique_ptr<hlod::Selector>& selector);
+  const renderer::GpuNodeRenderer& gpu() const {
+    return vdrRenderer_ ? vdrRenderer_->inner() : *renderer_;
+  }
+  renderer::GpuNodeRenderer& gpu() { return vdrRenderer_ ? vdrRenderer_->inner() : *renderer_; }
 
   SessionOptions options_;
   std::shared_ptr<const hlod::NodeSource> source_;
   std::unique_ptr<renderer::GlContext> ownContext_;  // when not given one; dies last
   renderer::GlContext* context_ = nullptr;
-  std::unique_ptr<renderer::GpuNodeRenderer> renderer_;  // GL objects: die with context current
+  std::unique_ptr<hlod::vdr::VdrRuntime> vdr_;              // "vdr": the objects' fronts
+  std::unique_ptr<renderer::GpuNodeRenderer> renderer_;     // GL objects: die with context current
+  std::unique_ptr<renderer::VdrNodeRenderer> vdrRenderer_;  // "vdr": instead of renderer_
   std::unique_ptr<hlod::Loader> loader_;
   std::unique_ptr<hlod::FrameDriver> driver_;
 };

@@ -15,6 +15,7 @@
 #include "hlod/city/City.h"
 #include "hlod/import/Import.h"
 #include "hlod/tiles/TilesetImport.h"
+#include "hlod/store/NodeStore.h"
 #include "service/Args.h"
 #include "service/Progress.h"
 
@@ -25,6 +26,7 @@ const char* const kBuildUsage =
     "                   [--min-leaf-tris N] [--simplifier meshopt|openmesh|parry] [--c-tex X]\n"
     "                   [--max-block-tri N] [--block-size M] [--threads N]\n"
     "                   [--cells auto|on|off] [--hierarchy auto|planes|objects]\n"
+    "                   [--vdr]\n"
     "                   [--lod X] [--up x|y|z] [--quiet]\n"
     "\n"
     "Builds the HLOD node store (Lakhia et al. III-A/B) that `hlodr render` streams from disk.\n"
@@ -84,6 +86,11 @@ const char* const kBuildUsage =
     "                       at least 16 objects that is not a city, planes otherwise\n"
     "  --threads N          blocks built at once, 1..256 (default: one per core); memory grows\n"
     "                       with the blocks in flight, the store is the same for any N\n"
+    "  --vdr                also the view-dependent section (vdr.bin; `--selector vdr`): per\n"
+    "                       block a vertex hierarchy of edge collapses (virtual edges between\n"
+    "                       parts closer than 1% of the block's diagonal), each vertex's local\n"
+    "                       Hausdorff error and each collapse's face neighbourhood, cut into a\n"
+    "                       cluster hierarchy (Manocha sec. 3, 3.1; docs/vdr.md)\n"
     "  --lod X              CityJSON: the level of detail to import, as the file names it (1, 2,\n"
     "                       2.2 ...); objects without it are left out (default: each city\n"
     "                       object at its highest)\n"
@@ -141,7 +148,7 @@ int buildTileset(const std::string& in, const std::string& out, const hlod::Buil
 }  // namespace
 
 int runBuild(const Argv& argv) {
-  auto args = Args::parse(argv, {"quiet"},
+  auto args = Args::parse(argv, {"quiet", "vdr"},
                           {"output", "level-factor", "desired-tris", "desired-tri", "simplifier",
                            "c-tex", "max-block-tri", "lod", "up", "min-leaf-tris", "threads",
                            "block-size", "cells", "hierarchy"});
@@ -183,6 +190,7 @@ int runBuild(const Argv& argv) {
     return 2;
   }
   options.blockSize = *blockSize;
+  options.vdr = args->has("vdr");
   options.simplifier = args->get("simplifier", "meshopt");
   if (options.simplifier != "meshopt" && options.simplifier != "openmesh" &&
       options.simplifier != "parry") {
@@ -352,6 +360,17 @@ int runBuild(const Argv& argv) {
       std::printf("object hierarchy: %zu leaves (redefined objects), %zu HLOD nodes above them\n",
                   leaves, built->nodes.size() - leaves);
     }
+    if (options.vdr)
+      if (auto store = hlod::NodeStore::open(*out)) {
+        std::uint64_t clusters = 0, vertices = 0, bytes = 0;
+        for (const hlod::VdrEntry& e : (*store)->vdrEntries())
+          clusters += e.clusters, vertices += e.vertices, bytes += e.storedSize;
+        std::printf(
+            "view-dependent section: %zu objects, %.2f M hierarchy vertices in %llu clusters, "
+            "%.1f MB stored\n",
+            (*store)->vdrEntries().size(), double(vertices) / 1e6, (unsigned long long)clusters,
+            double(bytes) / 1e6);
+      }
     const hlod::BlockQuadtree& q = built->quadtree;
     const hlod::QuadtreeStats qs = hlod::quadtreeStats(q);
     std::printf(

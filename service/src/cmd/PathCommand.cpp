@@ -23,7 +23,7 @@ namespace service::cmd {
 namespace fs = std::filesystem;
 
 const char* const kPathUsage =
-    "usage: hlodr path STORE --kind walk-fly|drive|orbit|fly-around|catwalk -o PATH.json\n"
+    "usage: hlodr path STORE --kind walk-fly|drive|orbit|facade|fly-around|catwalk -o PATH.json\n"
     "                  [--duration S]\n"
     "\n"
     "Writes a camera path (JSON keyframes: time, position, target, up, fov) for the model in the\n"

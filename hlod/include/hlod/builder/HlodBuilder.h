@@ -32,6 +32,8 @@
 #include "hlod/builder/Simplifier.h"
 #include "hlod/geodesy/Geodesy.h"
 #include "hlod/store/NodeStore.h"
+#include "hlod/store/VdrStore.h"
+#include "hlod/vdr/VdrObject.h"
 
 namespace hlod {
 
@@ -84,6 +86,11 @@ struct BuildOptions {
   // 2.2 (builder/ObjectHierarchy.h; resolveHierarchy says what Auto picks). City folders and
   // geo-referenced regions are always cut by planes.
   HierarchyMode hierarchy = HierarchyMode::Planes;
+  // The view-dependent section (`--vdr`, hlod/store/VdrStore.h): per block, its welded mesh's
+  // vertex and cluster hierarchies (hlod/vdr/VdrObject.h), with the block's seam and outline
+  // locked as its nodes lock them, and its texture at full resolution cropped to what it uses.
+  bool vdr = false;
+  vdr::VdrBuildOptions vdrOptions;
 };
 
 // The object hierarchy's options from the build's: fan-out levelFactor, redefined objects of at
@@ -162,6 +169,9 @@ struct PreparedBlock {
   // The block's sides and seam (as addBlock's): what its cell node locks.
   std::vector<CutPlane> sides;
   std::vector<glm::dvec3> seam;
+  // BuildOptions::vdr: the block's view-dependent object, stored; or why it could not be built.
+  std::optional<StoredVdr> vdr;
+  std::string vdrError;
 };
 
 // Streams blocks into a node store at `dir` (written under a temporary name, renamed in finish).
@@ -203,6 +213,9 @@ class HlodBuilder {
 
  private:
   HlodBuilder() = default;
+  // Adds the block's view-dependent object to out (BuildOptions::vdr).
+  void prepareVdr(const Mesh& block, std::span<const glm::dvec3> seam,
+                  std::span<const CutPlane> sides, PreparedBlock& out) const;
   BuildOptions options_;
   std::unique_ptr<Simplifier> simplifier_;
   std::unique_ptr<NodeStoreWriter> writer_;

@@ -112,6 +112,9 @@ class CameraPath {
 
 Result<CameraPath> makeWalkFlyPath(const Skeleton& skeleton);
 Result<CameraPath> makeDrivePath(const Skeleton& skeleton);
+// A 10 s walk 6 m off the middle of the walk-fly's street, looking 30 degrees towards its east
+// facades (Lakhia's Fig. 1: a facade seen at a slant, near and far at once).
+Result<CameraPath> makeFacadePath(const Skeleton& skeleton);
 // aspect: the width / height the path is meant for (a portrait frame moves the camera back). The
 // circle is around the model's up (modelUpFrame: an earth-centred model's ellipsoid normal).
 Result<CameraPath> makeOrbitPath(const Skeleton& skeleton, double duration = 30.0,
@@ -131,7 +134,7 @@ Result<CameraPath> makeFlyAroundPath(const Skeleton& skeleton, double duration =
 // A walk at eye height along a CAD scene's catwalks, found in the store's full-detail geometry
 // (hlod/runtime/CatwalkPath.h; runtime/paths/CatwalkPath.cpp).
 Result<CameraPath> makeCatwalkPath(const NodeSource& store);
-// "walk-fly", "drive", "orbit", "fly-around" or "catwalk": the generator of that kind
+// "walk-fly", "drive", "orbit", "facade", "fly-around" or "catwalk": the generator of that kind
 // (cameraPathKinds lists them); "catwalk" needs the store's geometry: the second form.
 Result<CameraPath> makeCameraPath(std::string_view kind, const Skeleton& skeleton);
 Result<CameraPath> makeCameraPath(std::string_view kind, const NodeSource& store);

@@ -26,7 +26,11 @@
 //     (settled frames: front nodes resident when the frame began, L_I, and those it waited for,
 //     L_O; Manocha 5.5), gpuBytes (bytes of the session's GPU copies after the frame),
 //     gpuEvictions (GPU copies freed this frame by the GPU memory budget), wallMs (the frame's
-//     whole wall time, waits for the loader and uploads included, ms).
+//     whole wall time, waits for the loader and uploads included, ms);
+//     view-dependent rendering (`--selector vdr`): refineMs (the frame's refinement and the
+//     rebuilding and upload of its changed clusters' arrays, CPU ms, part of gpuMs),
+//     vertexSplits and edgeCollapses (this frame's; forced splits included), activeClusters (on
+//     the active cluster lists), errorBoundPx (the bound the frame was refined to, pixels).
 //   summary: frames, medianRelError and p95RelError (of |gpuMs - targetMs| / targetMs),
 //     shareOverTarget and shareOver125 (fraction of frames with gpuMs > target, > 1.25 target),
 //     p99OverTarget (p99 of gpuMs / targetMs), meanGpuMs, totalStalls, peakResidentBytes,
@@ -98,15 +102,22 @@ struct FrameRecord {
   std::uint64_t gpuBytes = 0;
   std::uint32_t gpuEvictions = 0;
   double wallMs = 0.0;
+  double refineMs = 0.0;        // view-dependent rendering: refinement and cluster arrays, ms
+  std::uint32_t vertexSplits = 0;
+  std::uint32_t edgeCollapses = 0;
+  std::uint32_t activeClusters = 0;
+  double errorBoundPx = 0.0;
 };
 
 // Copies the selector's part (targetMs, estimatedMs, triangles, levels, toggles, vTime, ...).
 void fillFromSelection(FrameRecord& record, const Selection& selection);
 // Sets the per-pass field of the pass named `pass` ("shadow", "geometry", "sky", "ssao",
-// "ssao-blur", "composite", "outline", "occlusion"); false for another name.
+// "ssao-blur", "composite", "outline", "occlusion", "refine"); false for another name.
 bool setPassMs(FrameRecord& record, const std::string& pass, double ms);
-// A pass whose cost is per pixel, not per triangle of the front (sky, ssao, ssao-blur,
-// composite, outline); shadow and geometry draw the front.
+// A pass whose cost is not per triangle of the front, which the budget reserves (last frame's)
+// and v_time leaves out: the per-pixel passes (sky, ssao, ssao-blur, composite, outline), and
+// view-dependent rendering's refine (its cost follows the view's motion); shadow and geometry
+// draw the front.
 bool isScreenPass(const std::string& pass);
 // Copies the loader's part (residentBytes, capBytes, load/unload counts).
 void fillFromLoader(FrameRecord& record, const LoaderCounters& counters);

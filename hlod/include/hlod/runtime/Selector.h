@@ -99,6 +99,13 @@ struct Selection {
   std::uint32_t splatNodes = 0;    // front nodes drawn as splats
   std::uint64_t splats = 0;        // splats drawn
   QuadtreeWalk quadtree;  // the cells the culling walk tested and skipped (QuadtreeCulling)
+  // View-dependent rendering (VdrSelector; the front is then clusters): this frame's vertex
+  // splits (forced ones included) and edge collapses, the clusters on the active cluster lists,
+  // and the error bound the frame was refined to (pixels).
+  std::uint32_t vertexSplits = 0;
+  std::uint32_t edgeCollapses = 0;
+  std::uint32_t activeClusters = 0;
+  double errorBoundPx = 0.0;
 };
 
 // The paper's constants (Lakhia III-C) plus the few this implementation adds; all documented.
@@ -411,7 +418,8 @@ void Selector::planDraws(const View& view, Selection& s, TrianglesFor&& triangle
   finishFrame(s);
 }
 
-// "lakhia", "sse", "fs" or "full"; an unknown name is an Error listing the known ones.
+// "lakhia", "sse", "fs" or "full"; an unknown name is an Error listing the known ones. "vdr"
+// is an Error too: VdrSelector needs a store's objects (service::Session makes it).
 Result<std::unique_ptr<Selector>> makeSelector(std::string_view name, const Skeleton& skeleton,
                                                const SelectorParams& params = {});
 

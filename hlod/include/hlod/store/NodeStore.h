@@ -2,7 +2,9 @@
 // The node store on disk, NAME.hlod/ (a folder), written by the HLOD builder:
 //   skeleton.bin  the Skeleton (every NodeInfo field), build parameters and a checksum; loaded
 //   whole. payload.bin   the node payloads, one after another, each compressed with raw DEFLATE
-//   (fewer bytes to read and to send), read on demand in chunks with pread.
+//   (a third of the bytes to read on the default city), read on demand in chunks with pread.
+//   vdr.bin (optional, `hlodr build --vdr`): the view-dependent section, one record per block
+//   and an index (hlod/store/VdrStore.h); a store without it opens as before.
 // Formats (little-endian; each versioned, every count and offset bounds-checked on read):
 //   skeleton.bin: "HLODSKEL", u32 version, u32 0x01020304, build params, store facts, the model
 //     frame (u32 up axis 0/1/2 for x/y/z, i32 EPSG code, u32 toEnu 0/1, f64 origin lat, lon,
@@ -37,10 +39,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
 #include "hlod/store/NodeSource.h"
+#include "hlod/store/VdrStore.h"
 
 namespace hlod {
 
@@ -121,16 +125,28 @@ class NodeStore final : public NodeSource {
   // Reads and decodes a whole payload: the loader's two steps in one, for tools and tests.
   Result<LocalMesh> loadNode(std::uint32_t node) const;
 
+  // The view-dependent section (vdr.bin, `hlodr build --vdr`; hlod/store/VdrStore.h): its
+  // index, checked when the store is opened (empty without the section), and its objects.
+  const std::vector<VdrEntry>& vdrEntries() const { return vdr_; }
+  Result<vdr::VdrObject> loadVdrObject(std::size_t i) const;
+  // The object decoded once and kept while the store is open: the sessions of one store share
+  // it (it is read only). Thread-safe.
+  Result<std::shared_ptr<const vdr::VdrObject>> sharedVdrObject(std::size_t i) const;
+
  private:
   NodeStore() = default;
   int fd_ = -1;
   Skeleton skeleton_;
   StoreFacts facts_;
+  std::filesystem::path vdrFile_;
+  std::vector<VdrEntry> vdr_;
+  mutable std::mutex vdrMutex_;
+  mutable std::vector<std::shared_ptr<const vdr::VdrObject>> vdrObjects_;
 };
 
-// Ok when dir does not exist, is empty, or is a node store (only skeleton.bin and payload.bin,
-// the skeleton with its magic): the folders a build may replace. Anything else is an Error that
-// names what is in the way.
+// Ok when dir does not exist, is empty, or is a node store (only skeleton.bin, payload.bin and
+// vdr.bin, the skeleton with its magic): the folders a build may replace. Anything else is an Error
+// that names what is in the way.
 Status checkReplaceableStore(const std::filesystem::path& dir);
 
 // Writes a store into a temporary folder beside the destination and renames it into place in
@@ -156,6 +172,9 @@ class NodeStoreWriter {
   // Reads and decodes the payload a node appended before the last flush() (what the skeleton's
   // node says). Thread-safe (pread), also while another thread appends.
   Result<LocalMesh> readBack(const NodeInfo& node) const;
+  // Appends a view-dependent object (vdr.bin), the one of the block whose hlod_0 node is
+  // rootNode; finish() writes the section's index after the last.
+  Status appendVdr(StoredVdr&& object, std::uint32_t rootNode);
   // Writes skeleton.bin, flushes, and renames the folder to its destination (replacing an
   // existing store there).
   Status finish(const Skeleton& skeleton, StoreFacts facts);
@@ -166,6 +185,9 @@ class NodeStoreWriter {
   std::filesystem::path dir_, tmp_;
   std::FILE* payload_ = nullptr;
   std::uint64_t payloadBytes_ = 0;
+  std::FILE* vdr_ = nullptr;  // opened by the first appendVdr
+  std::uint64_t vdrBytes_ = 0;
+  std::vector<VdrEntry> vdrEntries_;
   bool finished_ = false;
 };
 

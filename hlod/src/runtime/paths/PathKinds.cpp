@@ -21,6 +21,7 @@ constexpr PathKind kPathKinds[] = {
     {"walk-fly", makeWalkFlyPath},
     {"drive", makeDrivePath},
     {"orbit", [](const Skeleton& skeleton) { return makeOrbitPath(skeleton); }},
+    {"facade", makeFacadePath},
     {"fly-around", [](const Skeleton& skeleton) { return makeFlyAroundPath(skeleton); }},
     {"catwalk", nullptr, makeCatwalkPath},
 };

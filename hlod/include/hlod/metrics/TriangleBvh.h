@@ -1,7 +1,7 @@
 #pragma once
 // Closest-point distance from a point to a set of triangles, and the first triangle a ray meets,
-// through a bounding volume hierarchy (private to hlod/src: metrics/ and the builder's texture
-// baking).
+// through a bounding volume hierarchy (the surface metrics, the builder's texture baking, and the
+// view-dependent builder's local Hausdorff distances use it).
 #include <array>
 #include <cstdint>
 #include <vector>
