@@ -26,7 +26,9 @@ VdrNodeRenderer::VdrNodeRenderer(hlod::vdr::VdrRuntime& runtime,
 
 hlod::Result<hlod::DrawReport> VdrNodeRenderer::draw(const hlod::Camera& camera,
                                                      std::span<const std::uint32_t> front,
-                                                     std::span<const hlod::NodeDraw> draws) {
+                                                     std::span<const hlod::NodeDraw> draws,
+                                                     const hlod::OcclusionPlan* /*occlusion*/) {
+  // Clusters are not occlusion units yet: sessions draw vdr with occlusion culling off.
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   ++frame_;

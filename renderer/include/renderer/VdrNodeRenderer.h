@@ -47,12 +47,13 @@ class VdrNodeRenderer final : public hlod::NodeRenderer {
   const hlod::Residency& onGpu() const override { return all_; }
   hlod::Result<hlod::DrawReport> draw(const hlod::Camera& camera,
                                       std::span<const std::uint32_t> front,
-                                      std::span<const hlod::NodeDraw> draws) override;
+                                      std::span<const hlod::NodeDraw> draws,
+                                      const hlod::OcclusionPlan* occlusion = nullptr) override;
   hlod::Image readback() override { return inner_->readback(); }
   bool drawsShadowPass() const override { return inner_->drawsShadowPass(); }
   hlod::metrics::Mask coverage() { return inner_->coverage(); }
 
-  void setGpuBudget(std::uint64_t bytes) { budget_ = bytes; }
+  void setGpuBudget(std::uint64_t bytes) override { budget_ = bytes; }
   const VdrDrawCounters& counters() const { return counters_; }
   GpuNodeRenderer& inner() { return *inner_; }
   const GpuNodeRenderer& inner() const { return *inner_; }

@@ -92,7 +92,11 @@ class Session {
   hlod::metrics::Mask coverage();
 
   hlod::FrameDriver& driver() { return *driver_; }
-  renderer::GpuNodeRenderer& gpu() { return *renderer_; }
+  // The GL renderer that draws the front (with "vdr", the one under the cluster renderer).
+  renderer::GpuNodeRenderer& gpu() { return vdrRenderer_ ? vdrRenderer_->inner() : *renderer_; }
+  const renderer::GpuNodeRenderer& gpu() const {
+    return vdrRenderer_ ? vdrRenderer_->inner() : *renderer_;
+  }
   const hlod::Selector& selector() const { return driver_->selector(); }
   // The skeleton the front's nodes belong to: the store's, or with "vdr" the clusters'.
   const hlod::Skeleton& skeleton() const { return driver_->selector().skeleton(); }
@@ -118,10 +122,6 @@ class Session {
   // The selector and the GPU side of "vdr" (view-dependent rendering of the store's section).
   hlod::Status initVdr(const renderer::RenderOptions& ro, const hlod::SelectorParams& sp,
                        std::unique_ptr<hlod::Selector>& selector);
-  const renderer::GpuNodeRenderer& gpu() const {
-    return vdrRenderer_ ? vdrRenderer_->inner() : *renderer_;
-  }
-  renderer::GpuNodeRenderer& gpu() { return vdrRenderer_ ? vdrRenderer_->inner() : *renderer_; }
 
   SessionOptions options_;
   std::shared_ptr<const hlod::NodeSource> source_;
