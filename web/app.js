@@ -133,6 +133,10 @@ function offerPathKinds(zUp) {
   }
 }
 
+// Where a store came from (GET /api/scenes' `source`), in the scene picker: "mars (3D Tiles)".
+const SOURCES = { '3d-tiles': '3D Tiles', city: 'city folder', cityjson: 'CityJSON', inputs: 'several inputs', mesh: 'mesh' };
+const storeLabel = (s) => (SOURCES[s.source] ? `${s.id} (${SOURCES[s.source]})` : s.id);
+
 function selectScene(id) {
   scene = scenes.find((s) => s.id === id) || null;
   if (!scene) return;
@@ -153,7 +157,7 @@ async function loadScenes() {
     return;
   }
   const picker = $('#scene');
-  picker.replaceChildren(...scenes.map((s) => new Option(s.id, s.id)));
+  picker.replaceChildren(...scenes.map((s) => new Option(storeLabel(s), s.id)));
   picker.disabled = scenes.length === 0;
   if (scenes.length === 0) {
     onError(new Error('the server has no scenes: its data folder holds no NAME.hlod/ store'), 'scenes');
