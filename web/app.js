@@ -7,6 +7,7 @@ import { Dashboard } from './charts.js';
 import { ViewControls } from './controls.js';
 import { formatCount } from './dom.js';
 import { ErrorBar } from './errors.js';
+import { ExportPanel } from './exports.js';
 import { JobsList } from './jobs.js';
 import { JobView } from './jobview.js';
 import { StudiesPanel } from './studies.js';
@@ -51,6 +52,13 @@ const jobView = new JobView(
 );
 const jobsList = new JobsList($('#jobs'), {
   onShow: (job) => jobView.follow(job, levelsOf(job.scene)),
+  onError,
+  onRecovered,
+});
+
+const exportPanel = new ExportPanel($('#export-tiles'), $('#export-status'), {
+  scene: () => scene,
+  onStarted: () => jobsList.refresh(),
   onError,
   onRecovered,
 });
@@ -140,6 +148,7 @@ const storeLabel = (s) => (SOURCES[s.source] ? `${s.id} (${SOURCES[s.source]})` 
 function selectScene(id) {
   scene = scenes.find((s) => s.id === id) || null;
   if (!scene) return;
+  exportPanel.show();
   offerPathKinds(!scene.up || scene.up[2] === 1);
   offerSceneFiles(scene.sceneFiles || []);
   const t = scene.triangles || {};
