@@ -105,7 +105,7 @@ void installExportRoutes(httplib::Server& http, ApiContext& api) {
     // In pieces of at most 1 MiB: each read from the folder as it is sent.
     res.set_content_provider(
         shared->size(), "application/zip",
-        [shared, job](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+        [shared](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
           std::string piece;
           if (!shared->read(offset, std::min<std::size_t>(length, 1 << 20), piece)) return false;
           return sink.write(piece.data(), piece.size());
