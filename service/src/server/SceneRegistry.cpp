@@ -29,6 +29,19 @@ nlohmann::json vec(const glm::dvec3& v) {
 
 }  // namespace
 
+std::string sourceOf(const hlod::Skeleton& sk) {
+  // The store keeps no input format of its own: its builder's name and the CRS description its
+  // importer wrote say it (TilesetImport, BuildFromInputs, CityJsonFrame). An hlodr export read
+  // back keeps the store it came from, and so its source.
+  const std::string& crs = sk.crs.description;
+  if (sk.params.simplifier == "3d-tiles" || crs.starts_with("3D Tiles")) return "3d-tiles";
+  if (crs.starts_with("city folder")) return "city";
+  if (crs.starts_with("EPSG:") || crs.starts_with("none declared")) return "cityjson";
+  if (crs.ends_with("inputs placed through ECEF in east-north-up metres at the first one's origin"))
+    return "inputs";
+  return "mesh";
+}
+
 nlohmann::json Scene::summary() const {
   const hlod::Skeleton& sk = store->skeleton();
   hlod::Aabb bounds;
@@ -46,6 +59,7 @@ nlohmann::json Scene::summary() const {
           {"levels", depth + 1},
           {"depth", depth},
           {"blocks", sk.blockRoots().size()},
+          {"source", sourceOf(sk)},
           {"triangles",
            {{"input", store->facts().inputTriangles}, {"hlod0", hlod0}, {"leaves", leaves}}},
           {"bounds", {{"min", vec(bounds.min)}, {"max", vec(bounds.max)}}},

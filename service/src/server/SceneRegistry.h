@@ -42,6 +42,12 @@ struct Scene {
   std::map<std::pair<int, int>, double> vTimes_;
 };
 
+// Where a store came from, as it records it: "3d-tiles" (a tileset imported by `hlodr build
+// TILESET.json`), "city" (a city folder), "cityjson", "inputs" (several inputs placed on the
+// globe together) or "mesh" (a model file: OBJ, PLY, OFF, STL, glTF; also a store built before
+// its CRS was recorded).
+std::string sourceOf(const hlod::Skeleton& sk);
+
 class SceneRegistry {
  public:
   SceneRegistry(std::filesystem::path dataDir, std::uint64_t cacheCapBytes);
