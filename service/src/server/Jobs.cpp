@@ -172,22 +172,24 @@ nlohmann::json Job::jsonLocked() const {
     if (kind == "path") j["outputs"]["video"] = video;
     return j;
   }
+  // Exports and studies: what they are and how far along, then their settings and outputs.
+  const auto progressJson = [&] {
+    return nlohmann::json{{"id", id},
+                          {"kind", kind},
+                          {"scene", scene->id},
+                          {"state", jobStateName(state_)},
+                          {"progress", progress_},
+                          {"doing", doing_},
+                          {"createdAt", createdAt},
+                          {"finished", done}};
+  };
   if (kind == "export") {
     const bool ready = state_ == JobState::Done;
-    nlohmann::json j = {
-        {"id", id},
-        {"kind", kind},
-        {"scene", scene->id},
-        {"state", jobStateName(state_)},
-        {"progress", progress_},
-        {"doing", doing_},
-        {"createdAt", createdAt},
-        {"settings", {{"format", "3d-tiles"}, {"version", "1.1"}}},
-        {"finished", done},
-        {"outputs",
-         {{"tileset",
-           ready ? nlohmann::json(base + "/tiles/tileset.json") : nlohmann::json(nullptr)},
-          {"zip", ready ? nlohmann::json(base + "/tiles.zip") : nlohmann::json(nullptr)}}}};
+    nlohmann::json j = progressJson();
+    j["settings"] = {{"format", "3d-tiles"}, {"version", "1.1"}};
+    j["outputs"] = {
+        {"tileset", ready ? nlohmann::json(base + "/tiles/tileset.json") : nlohmann::json(nullptr)},
+        {"zip", ready ? nlohmann::json(base + "/tiles.zip") : nlohmann::json(nullptr)}};
     if (!exported_.is_null()) j["result"] = exported_;
     if (!error_.empty()) j["error"] = error_;
     return j;
@@ -199,30 +201,20 @@ nlohmann::json Job::jsonLocked() const {
   settingsJson["prefetch"] = settings.prefetch;
   settingsJson["path"] = settings.path.json();
   if (kind == "study") {
-    nlohmann::json j = {
-        {"id", id},
-        {"kind", kind},
-        {"scene", scene->id},
-        {"state", jobStateName(state_)},
-        {"progress", progress_},
-        {"doing", doing_},
-        {"createdAt", createdAt},
-        {"settings",
-         {{"width", study.width},
-          {"height", study.height},
-          {"frames", study.frames},
-          {"budgets", study.budgets},
-          {"selectors", study.selectors},
-          {"ssePx", study.ssePx},
-          {"mode", study.settled && study.realtime ? "both"
-                   : study.realtime                ? "realtime"
-                                                   : "settled"},
-          {"path", settings.path.json()}}},
-        {"finished", done},
-        {"outputs",
-         {{"report", state_ == JobState::Done
-                         ? nlohmann::json("/api/studies/" + id + "/report/index.html")
-                         : nlohmann::json(nullptr)}}}};
+    nlohmann::json j = progressJson();
+    j["settings"] = {{"width", study.width},
+                     {"height", study.height},
+                     {"frames", study.frames},
+                     {"budgets", study.budgets},
+                     {"selectors", study.selectors},
+                     {"ssePx", study.ssePx},
+                     {"mode", study.settled && study.realtime ? "both"
+                              : study.realtime                ? "realtime"
+                                                              : "settled"},
+                     {"path", settings.path.json()}};
+    j["outputs"] = {{"report", state_ == JobState::Done
+                                   ? nlohmann::json("/api/studies/" + id + "/report/index.html")
+                                   : nlohmann::json(nullptr)}};
     if (!error_.empty()) j["error"] = error_;
     return j;
   }
