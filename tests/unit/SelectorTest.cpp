@@ -126,6 +126,39 @@ TEST(LakhiaSelector, SlicesStopAtWhatASubtreeCanUse) {
   EXPECT_LT(sum, sel.targetMs());
 }
 
+TEST(LakhiaSelector, ANodeWithoutErrorIsDrawnAsALeafWhereTheStoreHasErrors) {
+  // A 3D Tiles tile with geometricError 0 has children that draw the same surface: with time for
+  // everything, Lakhia draws it and none of its descendants, as SSE does; its siblings refine.
+  Skeleton sk = makeSyntheticCity({});
+  const std::uint32_t root = sk.roots.front();
+  const std::uint32_t exact = sk.nodes[root].firstChild;
+  ASSERT_GT(sk.nodes[exact].childCount, 0u);
+  sk.nodes[exact].geometricError = 0.0;
+  SelectorParams p;
+  p.lakhia.vTimeInitial = 1e-9;  // everything fits
+  auto frontOf = [&](const Skeleton& skeleton) {
+    LakhiaSelector sel(skeleton, p);
+    Selection s;
+    for (int f = 0; f < 30; ++f) s = sel.select(overview(skeleton), AllResident());
+    return s.front;
+  };
+  auto under = [&](std::uint32_t n, std::uint32_t a) {
+    for (; n != kNoNode; n = sk.nodes[n].parent)
+      if (n == a) return true;
+    return false;
+  };
+  const std::vector<std::uint32_t> front = frontOf(sk);
+  EXPECT_NE(std::find(front.begin(), front.end(), exact), front.end());
+  for (std::uint32_t n : front) EXPECT_FALSE(under(n, exact) && n != exact) << n;
+  const std::uint32_t sibling = exact + 1;
+  ASSERT_EQ(sk.nodes[sibling].parent, root);
+  EXPECT_EQ(std::find(front.begin(), front.end(), sibling), front.end());  // refined past it
+  // A store without errors at all (every node 0) is refined as before: 0 means unknown there.
+  for (NodeInfo& n : sk.nodes) n.geometricError = 0.0;
+  const std::vector<std::uint32_t> unknown = frontOf(sk);
+  EXPECT_EQ(std::find(unknown.begin(), unknown.end(), exact), unknown.end());
+}
+
 TEST(LakhiaSelector, TimeSlicesOfVisibleSiblingsSumToTheParentsSlice) {
   const Skeleton sk = makeSyntheticCity({});
   SelectorParams p;

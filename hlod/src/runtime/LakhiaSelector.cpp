@@ -60,10 +60,15 @@ LakhiaSelector::LakhiaSelector(const Skeleton& skeleton, const SelectorParams& p
       evaluatedFrame_(skeleton.nodes.size(), 0xffffffffu),
       visible_(skeleton.nodes.size(), 0),
       slicedFrame_(skeleton.nodes.size(), 0xffffffffu) {
-  // Bottom up (children follow their parents in the store): the cost of each subtree's leaves.
   const auto& nodes = skeleton.nodes;
+  errorsKnown_ = std::any_of(nodes.begin(), nodes.end(), [](const NodeInfo& n) {
+    return n.childCount > 0 && n.geometricError > 0.0;
+  });
+  // Bottom up (children follow their parents in the store): the cost of each subtree's leaves,
+  // an exact node standing for its subtree.
   for (std::size_t i = nodes.size(); i-- > 0;) {
-    if (nodes[i].childCount == 0) leafCost_[i] = effectiveCost(std::uint32_t(i));
+    if (nodes[i].childCount == 0 || exact(std::uint32_t(i)))
+      leafCost_[i] = effectiveCost(std::uint32_t(i));
     const std::uint32_t parent = nodes[i].parent;
     if (parent < nodes.size() && parent < i) leafCost_[parent] += leafCost_[i];
   }
@@ -186,6 +191,7 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
   walkFront(
       visible, residency, s, [](std::uint32_t) { return true; }, visit,
       [&](std::uint32_t n, const std::vector<std::uint32_t>& children) {
+        if (exact(n)) return false;
         // shareTime of the children is the parent's timeSlice.
         const long long cumHyst = sliceSiblings(children, timeSlice_[n]);
         // Parent drawn when cumHyst < 0 (paper); refining anew needs cumHyst >= c_hystRefine.
@@ -276,7 +282,7 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
   // the others by priority.
   std::vector<std::tuple<bool, double, std::uint32_t>> heap;
   auto push = [&](std::uint32_t n) {
-    if (nodes[n].childCount > 0)
+    if (nodes[n].childCount > 0 && !exact(n))
       heap.emplace_back(refinedLastFrame(n), priority_[n], n),
           std::push_heap(heap.begin(), heap.end());
   };

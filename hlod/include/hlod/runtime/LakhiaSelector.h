@@ -63,6 +63,12 @@ class LakhiaSelector final : public Selector {
   // (in steps of its range); its numTri otherwise.
   std::uint32_t trianglesBought(std::uint32_t n) const;
   static constexpr double kProgressiveSteps = 32.0;
+  // A node with children and no geometric error, in a store whose inner nodes carry errors (a
+  // 3D Tiles tile with geometricError 0): its children draw the same surface, so it is drawn
+  // as a leaf, as SSE and 3D Tiles viewers do.
+  bool exact(std::uint32_t n) const {
+    return errorsKnown_ && !(skeleton_.nodes[n].geometricError > 0.0);
+  }
 
   std::vector<double> hyst_;
   std::vector<double> timeSlice_;
@@ -74,6 +80,7 @@ class LakhiaSelector final : public Selector {
   std::vector<std::uint8_t> capped_;           // sliceSiblings scratch
   std::vector<std::uint32_t> slicedFrame_;     // frame a node's timeSlice_ was last set
   double aimMs_ = 0.0;  // c_aim * the drawing's budget this frame: what the slices share
+  bool errorsKnown_ = false;  // some node with children has a geometric error above 0
 };
 
 }  // namespace hlod
