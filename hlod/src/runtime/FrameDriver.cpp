@@ -142,6 +142,12 @@ Result<DrawSplit> FrameDriver::timeDraws(const Camera& camera, std::span<const s
   return median;
 }
 
+double FrameDriver::frontMs(const DrawSplit& split) const {
+  // At most half of a draw is taken as fixed: a noisy measurement of the fixed cost never leaves
+  // v_time learning from nothing.
+  return split.geometryMs - std::min(fixedMs_, 0.5 * split.geometryMs);
+}
+
 double FrameDriver::frontDraws() const {
   return renderer_.drawsShadowPass() ? 1.0 + shadowShare_.vTime() : 1.0;
 }
@@ -160,6 +166,9 @@ Status FrameDriver::start(double knownVTime) {
   const double aspect = static_cast<double>(options_.width) / options_.height;
   const Camera cam = bounds_.empty() ? Camera{} : defaultView(bounds_, skel.up, 60.0, aspect);
   if (!bounds_.empty()) {
+    auto empty = timeDraws(cam, {}, {});
+    if (!empty) return empty.error();
+    fixedMs_ = empty->geometryMs;
     const std::vector<std::uint32_t> front = nearToFar(skel, cam.position, skel.roots);
     auto timed = timeDraws(cam, front, {});
     if (!timed) return timed.error();
@@ -168,7 +177,7 @@ Status FrameDriver::start(double knownVTime) {
       cost += std::max(skel.nodes[r].cost, selector_->params().lakhia.c_minCost);
     // Per-pixel passes do not scale with the front, and the shadow pass has its share: v_time is
     // the geometry pass per unit of cost.
-    if (timed->geometryMs > 0.0 && cost > 0.0) measuredVTime_ = timed->geometryMs / cost;
+    if (timed->geometryMs > 0.0 && cost > 0.0) measuredVTime_ = frontMs(*timed) / cost;
   }
   const double v = known ? knownVTime : measuredVTime_;
   if (v > 0.0 && std::isfinite(v)) {
@@ -206,7 +215,7 @@ Status FrameDriver::probeVTime(const Camera& camera) {
   auto timed = timeDraws(camera, lastFront_, lastDraws_);
   if (!timed) return timed.error();
   if (timed->geometryMs > 0.0 && cost > 0.0) {
-    measuredVTime_ = timed->geometryMs / cost;
+    measuredVTime_ = frontMs(*timed) / cost;
     selector_->setVTime(measuredVTime_);
     if (prefetchSelector_) prefetchSelector_->setVTime(measuredVTime_);
   }
@@ -348,7 +357,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   view.occlusion = culling ? &occlusion_ : nullptr;
   // The occlusion queries' box pass costs what it cost last frame: reserved as the per-pixel
   // passes are.
-  view.spentMs = rec.uploadMs + screenPassMs_ + (culling ? occlusionMs_ : 0.0);
+  view.spentMs = rec.uploadMs + screenPassMs_ + fixedMs_ + (culling ? occlusionMs_ : 0.0);
   view.frontDraws = frontDraws();
   const auto selectStart = loader_.clock().now();
   // Settled: select as if everything were resident; that front is then loaded before drawing.
@@ -443,7 +452,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   // is the geometry pass's alone and carries over between scenes with and without shadows.
   const DrawSplit split = splitDraw(*drawn);
   screenPassMs_ = split.screenMs;
-  selector_->feedback(split.geometryMs);
+  selector_->feedback(frontMs(split));
   if (split.shadowMs > 0.0 && split.geometryMs > 0.0)
     shadowShare_.update(split.shadowMs, split.geometryMs);
   rec.index = frames_++;

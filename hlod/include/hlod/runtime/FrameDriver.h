@@ -229,6 +229,11 @@ class FrameDriver {
   std::uint64_t frames_ = 0;
   double measuredVTime_ = 0.0;
   double screenPassMs_ = 0.0;  // the last frame's per-pixel passes (DrawSplit::screenMs)
+  // The geometry pass of an empty front (clearing, binding, the finish): a frame's fixed cost,
+  // reserved like the per-pixel passes and kept out of v_time, which is per unit of cost.
+  double fixedMs_ = 0.0;
+  // A draw's geometry pass less the fixed cost: what v_time learns from.
+  double frontMs(const DrawSplit& split) const;
   // The shadow pass's ms per geometry-pass ms (median of three, low-passed as v_time is). Before
   // its first measurement the shadow pass counts as drawing the front again: a share of 1.
   VTimeFeedback shadowShare_{1.0, 0.3, 4.0, 2.0};
