@@ -16,6 +16,9 @@ using namespace hlod::study;
 
 namespace {
 
+// Frames a budgeted selector may take to come to rest at a studied camera (settled runs).
+constexpr int kSettleFrames = 16;
+
 // The studied frames: `count` path frames spread evenly from the first to the last.
 std::vector<std::uint64_t> studiedFrames(std::uint64_t total, std::size_t count) {
   std::vector<std::uint64_t> out;
@@ -162,6 +165,17 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
             return hlod::makeError(c.label() + ", frame " + std::to_string(w) + ": " +
                                    warm.message());
       const hlod::CameraSample sample = path.sampleFrame(f, o.fps, aspect);
+      // A budgeted selector's front follows its hysteresis, a step per frame: settled, it is
+      // the front it comes to rest on with the camera held still at the studied frame (until a
+      // frame toggles nothing, at most kSettleFrames), as SSE's is at once.
+      if (c.mode == hlod::FrameMode::Settled && (*s)->selector().budgeted())
+        for (int k = 0; k < kSettleFrames; ++k) {
+          auto still = (*s)->renderFrame(sample, c.mode);
+          if (!still)
+            return hlod::makeError(c.label() + ", frame " + std::to_string(f) + ": " +
+                                   still.message());
+          if (still->upToggles + still->downToggles == 0) break;
+        }
       auto rec = (*s)->renderFrame(sample, c.mode);
       if (!rec)
         return hlod::makeError(c.label() + ", frame " + std::to_string(f) + ": " + rec.message());
