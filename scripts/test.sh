@@ -2,7 +2,7 @@
 # Installs what is missing, builds, and runs the whole test suite (unit, GL, hard cases, service,
 # fuzz corpora and browser tests); then the same suite, less the browser test, built with ASan +
 # UBSan (build-asan/), the service tests built with ThreadSanitizer (build-tsan/), and a fuzz
-# smoke of 20 s per target. CI runs all of it.
+# smoke of 10 s per target. CI runs all of it.
 #   scripts/test.sh            everything
 #   scripts/test.sh --quick    the gcc build and suite only (for developers)
 set -euo pipefail
@@ -42,5 +42,5 @@ echo "test: the service tests built with ThreadSanitizer (clang)"
 scripts/build.sh --tsan
 (. scripts/sanitize-env.sh && ctest --test-dir build-tsan --output-on-failure -j"$(nproc)" \
   --timeout 900 -L service)
-echo "test: fuzz smoke, 20 s per target"
-scripts/fuzz.sh 20
+echo "test: fuzz smoke, 10 s per target"
+scripts/fuzz.sh 10
