@@ -12,11 +12,6 @@ using namespace svctest;
 
 namespace {
 
-fs::path jobsFolder() {
-  return dataDir() /
-         ("jobs_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-}
-
 // Every content URI of the tileset (tiles' "content" and "contents"), walking its tree.
 std::vector<std::string> contentUris(const json& tileset) {
   std::vector<std::string> out;
