@@ -499,8 +499,13 @@ class Importer {
       info.level = std::uint32_t(numberIn(h, "level", 0.0));
       info.block = h.value("cell", false) ? kCellBlock : std::uint32_t(numberIn(h, "block", 0.0));
       if (h.contains("anchor") && h["anchor"].is_array() && h["anchor"].size() == 2 &&
-          h["anchor"][0].is_number() && h["anchor"][1].is_number())
-        anchors[id[k]] = {h["anchor"][0].get<double>(), h["anchor"][1].get<double>()};
+          h["anchor"][0].is_number() && h["anchor"][1].is_number()) {
+        const glm::dvec2 lonLat(h["anchor"][0].get<double>(), h["anchor"][1].get<double>());
+        // JSON's 1e400 reads as infinity: the quadtree's cells need a place on the globe.
+        if (!std::isfinite(lonLat.x) || !(std::abs(lonLat.y) <= 90.0))
+          return makeError("a block's anchor is not a longitude and a latitude");
+        anchors[id[k]] = lonLat;
+      }
       s.nodes[id[k]] = info;
       if (info.parent == kNoNode) s.roots.push_back(id[k]);
     }
@@ -563,7 +568,9 @@ class Importer {
           anchors[i] = LatLon{a->second.y, a->second.x, 0.0};
       } else if (frame_.enu) {
         const Aabb& b = s.nodes[r].bounds;
-        anchors[i] = frame_.enu->toGeodetic({b.centre().x, b.centre().y, b.min.z});
+        const LatLon a = frame_.enu->toGeodetic({b.centre().x, b.centre().y, b.min.z});
+        // A block far out in space has no latitude: the quadtree then takes the model's frame.
+        if (std::isfinite(a.lon) && std::abs(a.lat) <= 90.0) anchors[i] = a;
       }
     }
     s.quadtree = quadtreeOfRoots(blocks, anchors);
