@@ -247,6 +247,9 @@ TEST_F(SessionTest, StartMeasuresVTimeAndTheFeedbackMovesIt) {
 // of an unchanged front, its image read back as every user of a session does, faults in no
 // fresh memory.
 TEST_F(SessionTest, AFrameOfAnUnchangedFrontFaultsInNoFreshMemory) {
+#ifdef HLODR_SANITIZE_BUILD
+  GTEST_SKIP() << "the sanitizers' allocator is not glibc's malloc";
+#endif
   // glibc's defaults, as a fresh process has them (this one may have raised them already).
   mallopt(M_MMAP_THRESHOLD, 128 * 1024);
   mallopt(M_TRIM_THRESHOLD, 128 * 1024);
