@@ -25,9 +25,11 @@ PriorityModel::PriorityModel(const View& view, const LakhiaParams& params)
     : params_(params),
       frustum_(view.camera.frustum()),
       lookAhead_(view.camera.position + finiteOr(params.c_velocity, 0.0) * finiteOr(view.velocity)),
-      view_(view.camera.forward()) {}
+      view_(view.camera.forward()),
+      camera_(view.camera),
+      viewportHeight_(view.viewportHeight) {}
 
-NodePriority PriorityModel::evaluate(const NodeInfo& node) const {
+NodePriority PriorityModel::evaluate(const NodeInfo& node, double errorRemoved) const {
   NodePriority p;
   const double outside = frustum_.distanceOutside(node.bounds);
   p.visible = outside <= 0.0;
@@ -42,8 +44,13 @@ NodePriority PriorityModel::evaluate(const NodeInfo& node) const {
   p.foreshorten = std::max(0.0, 1.0 + finiteOr(facing, 0.0) * params_.c_fore);
   const double minDistance = params_.c_minDistance > 0.0 ? params_.c_minDistance : 1e-6;
   p.distance = std::max(minDistance, distanceToBox(lookAhead_, node.bounds));
-  const double staticBenefit = std::max(0.0, finiteOr(node.staticBenefit, 0.0));
-  p.benefit = finiteOr(staticBenefit * p.vis * p.foreshorten / (p.distance * p.distance), 0.0);
+  if (errorRemoved > 0.0) {
+    p.errorPx = finiteOr(errorRemoved * camera_.pixelsPerUnit(p.distance, viewportHeight_), 0.0);
+    p.benefit = p.errorPx * p.vis * p.foreshorten;
+  } else {
+    const double staticBenefit = std::max(0.0, finiteOr(node.staticBenefit, 0.0));
+    p.benefit = finiteOr(staticBenefit * p.vis * p.foreshorten / (p.distance * p.distance), 0.0);
+  }
   const double minCost = params_.c_minCost > 0.0 ? params_.c_minCost : 1e-9;
   const double cost = std::isfinite(node.cost) ? std::max(node.cost, minCost) : minCost;
   p.priority = finiteOr(p.benefit / cost, 0.0);
@@ -72,6 +79,13 @@ LakhiaSelector::LakhiaSelector(const Skeleton& skeleton, const SelectorParams& p
     const std::uint32_t parent = nodes[i].parent;
     if (parent < nodes.size() && parent < i) leafCost_[parent] += leafCost_[i];
   }
+}
+
+double LakhiaSelector::errorRemoved(std::uint32_t n) const {
+  if (!errorsKnown_ || !(params_.lakhia.c_errorBenefit > 0.0)) return 0.0;
+  const NodeInfo& info = skeleton_.nodes[n];
+  if (info.geometricError > 0.0) return info.geometricError;
+  return info.parent < skeleton_.nodes.size() ? skeleton_.nodes[info.parent].geometricError : 0.0;
 }
 
 double LakhiaSelector::timeNeeded(std::uint32_t node) const {
@@ -169,7 +183,7 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
   auto visit = [&](std::uint32_t n) {
     if (evaluatedFrame_[n] == frame_) return visible_[n] != 0;
     evaluatedFrame_[n] = frame_;
-    const NodePriority np = model.evaluate(nodes[n]);
+    const NodePriority np = model.evaluate(nodes[n], errorRemoved(n));
     priority_[n] = np.priority;
     visible_[n] = np.visible;
     timeSlice_[n] = 0.0;  // invisible nodes get no share (sib() holds visible nodes only)

@@ -16,16 +16,20 @@ struct NodePriority {
   double vis = 1.0;          // 1 + c_vis * frustumVis
   double foreshorten = 1.0;  // 1 + facing * c_fore, at least 0
   double distance = 1.0;     // max(c_minDistance, distance from the look-ahead camera to the box)
-  double benefit = 0.0;      // staticBenefit * vis * foreshorten / distance^2
-  double priority = 0.0;     // benefit / max(cost, c_minCost)
-  bool visible = false;      // the box touches the view frustum
+  // staticBenefit * vis * foreshorten / distance^2; or, given the error the node removes,
+  // errorPx * vis * foreshorten (LakhiaParams::c_errorBenefit)
+  double benefit = 0.0;
+  double errorPx = 0.0;   // that error projected at the distance, in pixels (0 without one)
+  double priority = 0.0;  // benefit / max(cost, c_minCost)
+  bool visible = false;   // the box touches the view frustum
 };
 
 // Per-frame quantities shared by every node's priority (frustum, look-ahead position).
 class PriorityModel {
  public:
   PriorityModel(const View& view, const LakhiaParams& params);
-  NodePriority evaluate(const NodeInfo& node) const;
+  // errorRemoved > 0: the geometric error drawing the node removes, its benefit's measure.
+  NodePriority evaluate(const NodeInfo& node, double errorRemoved = 0.0) const;
   const Frustum& frustum() const { return frustum_; }
 
  private:
@@ -33,6 +37,8 @@ class PriorityModel {
   Frustum frustum_;
   glm::dvec3 lookAhead_;  // camera position + c_velocity * velocity
   glm::dvec3 view_;       // the image plane normal: the camera's forward direction
+  Camera camera_;
+  double viewportHeight_ = 0.0;
 };
 
 class LakhiaSelector final : public Selector {
@@ -81,6 +87,8 @@ class LakhiaSelector final : public Selector {
   std::vector<std::uint32_t> slicedFrame_;     // frame a node's timeSlice_ was last set
   double aimMs_ = 0.0;        // c_aim * the drawing's budget this frame: what the slices share
   bool errorsKnown_ = false;  // some node with children has a geometric error above 0
+  // The geometric error drawing node n removes where benefits come from errors, else 0.
+  double errorRemoved(std::uint32_t n) const;
 };
 
 }  // namespace hlod

@@ -169,6 +169,14 @@ struct LakhiaParams {
   // back into their parents until it fits the aim. Far outside the fill's band, so noise
   // never triggers it.
   double c_shed = 0.25;
+  // Benefit from geometric error (an addition; 1 on, 0 the paper's). Where the store records
+  // geometric errors (hlodr's builder and 3D Tiles do), a node's benefit is vis * foreshorten *
+  // the geometric error its drawing removes, projected in pixels at its distance: its own error,
+  // or its parent's where it has none (a leaf). Eq. 2's static benefit stands in for accuracy
+  // with the triangle count, and eq. 3 divides it by distance^2: on a terrain whose errors vary
+  // 50x within a level that spent the budget near the camera on flat tiles that a screen-space
+  // error leaves coarse (docs/results.md, "3D Tiles").
+  double c_errorBenefit = 1.0;
 };
 
 struct SelectorParams {
