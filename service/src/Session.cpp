@@ -131,7 +131,7 @@ hlod::Status Session::init(renderer::GlContext& context) {
     fo.fogCullDistance = hlod::fogCullDistance(options_.effects.fog->density);
   driver_ = std::make_unique<hlod::FrameDriver>(std::move(*sel), std::move(*ahead), *loader_,
                                                 *renderer_, fo);
-  return driver_->start(options_.knownVTime);
+  return driver_->start(options_.knownVTime, options_.knownFixedMs);
 }
 
 std::string Session::loadFailure() const {

@@ -120,6 +120,29 @@ TEST(FrameDriver, StartProbesABudgetSizedFrontWhereHlod0AloneWouldMisjudgeTheMac
   }
 }
 
+TEST(FrameDriver, StartKeepsTheCostOfFillingThePixelsOutOfVTime) {
+  // Filling the model's pixels costs as much as hlod_0's triangles, for any front: a v_time
+  // through the origin would price each refinement at about twice its cost. The fixed part is
+  // measured, and the first frame, refined below hlod_0, holds the budget.
+  Rig rig(heavyCity(), 8.0);
+  rig.renderer.msFill = 3.2;
+  ASSERT_TRUE(rig.driver->start().ok());
+  EXPECT_NEAR(rig.driver->fixedMs(), rig.renderer.msPerFrame + rig.renderer.msFill, 1e-9);
+  EXPECT_NEAR(rig.driver->measuredVTime(),
+              rig.renderer.msPerTriangle * 2000.0 / rig.source.skeleton().nodes[0].cost, 1e-9);
+  auto r = rig.driver->renderFrame(rig.street(), FrameMode::Settled);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_GT(deeperThanHlod0(*r), 0u);
+  EXPECT_LE(r->gpuMs, 1.1 * 8.0);
+  EXPECT_GT(r->gpuMs, 0.8 * 8.0);
+  // A later session starts from both.
+  const FrontTiming t = rig.driver->timing();
+  Rig again(heavyCity(), 8.0);
+  again.renderer.msFill = 3.2;
+  ASSERT_TRUE(again.driver->start(t.vTime, t.fixedMs).ok());
+  EXPECT_DOUBLE_EQ(again.driver->fixedMs(), t.fixedMs);
+}
+
 TEST(FrameDriver, AGivenVTimeOrAnUnbudgetedSelectorSkipsTheProbe) {
   for (auto [selector, given] : {std::pair{"lakhia", 3e-3}, {"sse", 0.0}, {"full", 0.0}}) {
     Rig rig(heavyCity(), 33.0, selector);

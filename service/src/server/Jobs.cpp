@@ -579,8 +579,8 @@ void JobManager::runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraP
   o.mode = job->settings.mode;
   o.prefetchSeconds = job->settings.prefetch ? 1.0 : 0.0;
   auto ran = hlod::runPath((*session)->driver(), path, o, list, &job->cancel);
-  job->scene->rememberVTime(job->settings.render.width, job->settings.render.height,
-                            (*session)->selector().vTime());
+  job->scene->rememberTiming(job->settings.render.width, job->settings.render.height,
+                             (*session)->driver().timing());
   session->reset();  // on this thread, with its context current
   if (!ran) {
     job->setState(JobState::Failed, ran.message());

@@ -97,16 +97,16 @@ nlohmann::json Scene::detail() const {
   return j;
 }
 
-double Scene::knownVTime(int width, int height) const {
+hlod::FrontTiming Scene::knownTiming(int width, int height) const {
   std::lock_guard lock(mutex_);
-  auto it = vTimes_.find({width, height});
-  return it == vTimes_.end() ? 0.0 : it->second;
+  auto it = timings_.find({width, height});
+  return it == timings_.end() ? hlod::FrontTiming{} : it->second;
 }
 
-void Scene::rememberVTime(int width, int height, double vTime) {
-  if (!(vTime > 0.0)) return;
+void Scene::rememberTiming(int width, int height, const hlod::FrontTiming& timing) {
+  if (!(timing.vTime > 0.0)) return;
   std::lock_guard lock(mutex_);
-  vTimes_[{width, height}] = vTime;
+  timings_[{width, height}] = timing;
 }
 
 SceneRegistry::SceneRegistry(fs::path dataDir, std::uint64_t cacheCapBytes)

@@ -136,16 +136,17 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   stripAt.erase(std::unique(stripAt.begin(), stripAt.end()), stripAt.end());
   std::map<std::pair<std::size_t, double>, Measured> stripCells;  // (studied index, budget)
 
-  // Each run starts from the v_time the run before left, as the server's sessions do (only the
+  // Each run starts from the timing the run before left, as the server's sessions do (only the
   // first measures one: see FrameDriver::start).
-  double knownVTime = 0.0;
+  hlod::FrontTiming known;
   for (const StudyConfig& c : configs) {
     SessionOptions so = base;
     so.selectorParams = o.selectorParams;
     so.selector = c.selector;
     so.budgetMs = c.budgetMs;
     so.selectorParams.ssePixels = c.ssePx > 0.0 ? c.ssePx : so.selectorParams.ssePixels;
-    so.knownVTime = knownVTime;
+    so.knownVTime = known.vTime;
+    so.knownFixedMs = known.fixedMs;
     so.occlusion = o.occlusion;
     auto s = Session::create(source, so, gl);
     if (!s) return hlod::makeError(c.label() + ": " + s.message());
@@ -224,7 +225,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
     if (const std::string failure = (*s)->loadFailure(); !failure.empty())
       return hlod::makeError(c.label() + ": " + failure);
     run.summary = summarize(run.frames);
-    if ((*s)->selector().budgeted()) knownVTime = (*s)->selector().vTime();
+    if ((*s)->selector().budgeted()) known = (*s)->driver().timing();
     report.runs.push_back(std::move(run));
   }
   markParetoFront(report.runs);
