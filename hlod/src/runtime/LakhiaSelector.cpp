@@ -26,8 +26,7 @@ PriorityModel::PriorityModel(const View& view, const LakhiaParams& params)
       frustum_(view.camera.frustum()),
       lookAhead_(view.camera.position + finiteOr(params.c_velocity, 0.0) * finiteOr(view.velocity)),
       view_(view.camera.forward()),
-      camera_(view.camera),
-      viewportHeight_(view.viewportHeight) {}
+      pixelsPerUnitAt1_(view.camera.pixelsPerUnit(1.0, view.viewportHeight)) {}
 
 NodePriority PriorityModel::evaluate(const NodeInfo& node, double errorRemoved) const {
   NodePriority p;
@@ -45,8 +44,8 @@ NodePriority PriorityModel::evaluate(const NodeInfo& node, double errorRemoved) 
   const double minDistance = params_.c_minDistance > 0.0 ? params_.c_minDistance : 1e-6;
   p.distance = std::max(minDistance, distanceToBox(lookAhead_, node.bounds));
   if (errorRemoved > 0.0) {
-    p.errorPx = finiteOr(errorRemoved * camera_.pixelsPerUnit(p.distance, viewportHeight_), 0.0);
-    p.benefit = p.errorPx * p.vis * p.foreshorten;
+    const double errorPx = errorRemoved * pixelsPerUnitAt1_ / std::max(p.distance, 1e-9);
+    p.benefit = finiteOr(errorPx * p.vis * p.foreshorten, 0.0);
   } else {
     const double staticBenefit = std::max(0.0, finiteOr(node.staticBenefit, 0.0));
     p.benefit = finiteOr(staticBenefit * p.vis * p.foreshorten / (p.distance * p.distance), 0.0);

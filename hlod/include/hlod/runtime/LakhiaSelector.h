@@ -17,9 +17,8 @@ struct NodePriority {
   double foreshorten = 1.0;  // 1 + facing * c_fore, at least 0
   double distance = 1.0;     // max(c_minDistance, distance from the look-ahead camera to the box)
   // staticBenefit * vis * foreshorten / distance^2; or, given the error the node removes,
-  // errorPx * vis * foreshorten (LakhiaParams::c_errorBenefit)
+  // that error in pixels at the distance * vis * foreshorten (LakhiaParams::c_errorBenefit)
   double benefit = 0.0;
-  double errorPx = 0.0;   // that error projected at the distance, in pixels (0 without one)
   double priority = 0.0;  // benefit / max(cost, c_minCost)
   bool visible = false;   // the box touches the view frustum
 };
@@ -35,10 +34,9 @@ class PriorityModel {
  private:
   const LakhiaParams& params_;
   Frustum frustum_;
-  glm::dvec3 lookAhead_;  // camera position + c_velocity * velocity
-  glm::dvec3 view_;       // the image plane normal: the camera's forward direction
-  Camera camera_;
-  double viewportHeight_ = 0.0;
+  glm::dvec3 lookAhead_;     // camera position + c_velocity * velocity
+  glm::dvec3 view_;          // the image plane normal: the camera's forward direction
+  double pixelsPerUnitAt1_;  // pixels one world unit covers face-on at distance 1
 };
 
 class LakhiaSelector final : public Selector {
