@@ -175,8 +175,9 @@ struct LakhiaParams {
   // or its parent's where it has none (a leaf). Eq. 2's static benefit stands in for accuracy
   // with the triangle count, and eq. 3 divides it by distance^2: on a terrain whose errors vary
   // 50x within a level that spent the budget near the camera on flat tiles that a screen-space
-  // error leaves coarse (docs/results.md, "3D Tiles").
-  double c_errorBenefit = 1.0;
+  // error leaves coarse (docs/results.md, "3D Tiles"). Off by default: at street level in a
+  // city with cell nodes it drew the nearest facades coarse and a cell far off instead.
+  double c_errorBenefit = 0.0;
 };
 
 struct SelectorParams {
