@@ -418,6 +418,54 @@ TEST_P(StillCamera, SettlesAndNeverFlickers) {
 // LakhiaSelector/StillCamera.SettlesAndNeverFlickers/0 the paper's benefit, /1 from errors.
 INSTANTIATE_TEST_SUITE_P(LakhiaSelector, StillCamera, ::testing::Values(0.0, 1.0));
 
+TEST(LakhiaSelector, ARefinementKeptFromAnEarlierViewGivesWayToOneTheNewViewNeedsMore) {
+  // Two blocks, each a root of 1000 triangles over three children of 1000. The budget pays for
+  // one block refined (4000 triangles), not both (6000). The walk refines nothing anew
+  // (c_hystRefine), so the budget fill alone decides which block is refined.
+  SyntheticCity c;
+  c.blocksX = 2;
+  c.blocksY = 1;
+  c.depth = 1;
+  const Skeleton sk = makeSyntheticCity(c);
+  ASSERT_EQ(sk.roots.size(), 2u);
+  const std::uint32_t a = sk.roots[0], b = sk.roots[1];
+  SelectorParams p;
+  p.lakhia.vTimeInitial = 1e-3;  // ms per triangle, the simulated GPU's
+  p.lakhia.c_targetTime = 4.5;
+  p.lakhia.c_hystRefine = 1000000;
+  LakhiaSelector sel(sk, p);
+  SimulatedGpu gpu;
+  gpu.k = 1e-3;
+  gpu.noise = 0.0;
+  auto settle = [&](const View& v) {
+    Selection s;
+    for (int f = 0; f < 100; ++f) {
+      s = sel.select(v, AllResident());
+      sel.feedback(gpu.frame(sk, s));
+    }
+    return s;
+  };
+  auto drawn = [](const Selection& s, std::uint32_t n) {
+    return std::find(s.front.begin(), s.front.end(), n) != s.front.end();
+  };
+  View nearA;  // before block a, looking along +X over both
+  nearA.camera.position = {-30.0, 20.0, 30.0};
+  nearA.camera.target = {92.0, 20.0, 0.0};
+  View nearB;  // beyond block b, looking back along -X
+  nearB.camera.position = {122.0, 20.0, 30.0};
+  nearB.camera.target = {0.0, 20.0, 0.0};
+  const Selection first = settle(nearA);
+  EXPECT_TRUE(drawn(first, sk.nodes[a].firstChild));
+  EXPECT_TRUE(drawn(first, b));
+  EXPECT_GT(sel.priority(a), sel.priority(b));
+  // The camera moves to the other end: the block now near is refined, the far one given back.
+  const Selection second = settle(nearB);
+  EXPECT_GT(sel.priority(b), sel.priority(a));
+  EXPECT_TRUE(drawn(second, sk.nodes[b].firstChild));
+  EXPECT_TRUE(drawn(second, a));
+  EXPECT_LE(gpu.frame(sk, second), p.lakhia.c_targetTime);
+}
+
 TEST(LakhiaSelector, WithErrorsKnownABenefitFollowsTheErrorItRemoves) {
   SyntheticCity c;
   c.blocksX = 2;
@@ -441,6 +489,14 @@ TEST(LakhiaSelector, WithErrorsKnownABenefitFollowsTheErrorItRemoves) {
   EXPECT_NEAR(ratio(rugged, 1.0), 10.0 * ratio(even, 1.0), 1e-9 * ratio(even, 1.0));
   // The paper's benefit (eq. 2, 3) does not see the error.
   EXPECT_DOUBLE_EQ(ratio(rugged, 0.0), ratio(even, 0.0));
+  // The default (-1) takes the benefit from errors where the store is another's tileset, and
+  // the paper's on a store hlodr built.
+  EXPECT_DOUBLE_EQ(ratio(rugged, -1.0), ratio(rugged, 0.0));
+  Skeleton tileset = rugged;
+  tileset.params.simplifier = kTilesetSimplifier;
+  EXPECT_DOUBLE_EQ(ratio(tileset, -1.0), ratio(rugged, 1.0));
+  EXPECT_DOUBLE_EQ(ratio(tileset, 0.0), ratio(rugged, 0.0));
+  EXPECT_EQ(SelectorParams{}.lakhia.c_errorBenefit, -1.0);
 }
 
 TEST(LakhiaSelector, TogglesCountRefinementsAndCoarsenings) {

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <tuple>
+#include <utility>
 
 namespace hlod {
 
@@ -70,6 +70,9 @@ LakhiaSelector::LakhiaSelector(const Skeleton& skeleton, const SelectorParams& p
   errorsKnown_ = std::any_of(nodes.begin(), nodes.end(), [](const NodeInfo& n) {
     return n.childCount > 0 && n.geometricError > 0.0;
   });
+  const double e = params_.lakhia.c_errorBenefit;
+  errorBenefit_ =
+      errorsKnown_ && (e < 0.0 ? skeleton.params.simplifier == kTilesetSimplifier : e > 0.0);
   // Bottom up (children follow their parents in the store): the cost of each subtree's leaves,
   // an exact node standing for its subtree.
   for (std::size_t i = nodes.size(); i-- > 0;) {
@@ -81,7 +84,7 @@ LakhiaSelector::LakhiaSelector(const Skeleton& skeleton, const SelectorParams& p
 }
 
 double LakhiaSelector::errorRemoved(std::uint32_t n) const {
-  if (!errorsKnown_ || !(params_.lakhia.c_errorBenefit > 0.0)) return 0.0;
+  if (!errorBenefit_) return 0.0;
   const NodeInfo& info = skeleton_.nodes[n];
   if (info.geometricError > 0.0) return info.geometricError;
   return info.parent < skeleton_.nodes.size() ? skeleton_.nodes[info.parent].geometricError : 0.0;
@@ -276,9 +279,11 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
   // times their parent) is lost; summed over a city seen from above, with many blocks of equal
   // priority, that is a third of the budget. The rest of c_targetTime is spent here on further
   // refinements in priority order, as long as each fits whole. Hysteresis on the frame's total:
-  // nodes refined last frame are taken first and stay refined while the total is within
-  // (1 + c_fillKeep) of the aim by the steady v_time and (1 + c_fillFast) by the fast one; new
-  // refinements are made only below (1 - c_fillAdd).
+  // a node refined last frame stays refined while the total is within (1 + c_fillKeep) of the
+  // aim by the steady v_time and (1 + c_fillFast) by the fast one; new refinements are made only
+  // below (1 - c_fillAdd). Kept and new refinements are taken in one priority order: were the
+  // kept ones taken first, a front chosen at one viewpoint would hold the budget while the
+  // camera moves on, and nothing the new view needs more could replace it.
   const LakhiaParams& p = params_.lakhia;
   const double keepLimit = aimMs_ * (1.0 + std::clamp(finiteOr(p.c_fillKeep, 0.05), 0.0, 1.0));
   const double fastLimit = aimMs_ * (1.0 + std::clamp(finiteOr(p.c_fillFast, 0.1), 0.0, 1.0));
@@ -291,19 +296,16 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
   double cost = s.estimatedCost;  // the drawing's part of the frame, in cost units
   if (!keeps(cost) || !std::isfinite(cost)) return;
   const auto& nodes = skeleton_.nodes;
-  // Nodes refined last frame come first (they keep their refinement while it still fits), then
-  // the others by priority.
-  std::vector<std::tuple<bool, double, std::uint32_t>> heap;
+  std::vector<std::pair<double, std::uint32_t>> heap;
   auto push = [&](std::uint32_t n) {
     if (nodes[n].childCount > 0 && !exact(n))
-      heap.emplace_back(refinedLastFrame(n), priority_[n], n),
-          std::push_heap(heap.begin(), heap.end());
+      heap.emplace_back(priority_[n], n), std::push_heap(heap.begin(), heap.end());
   };
   for (std::uint32_t n : s.front) push(n);
   std::vector<std::uint32_t> children;
   while (!heap.empty()) {
     std::pop_heap(heap.begin(), heap.end());
-    const std::uint32_t n = std::get<2>(heap.back());
+    const std::uint32_t n = heap.back().second;
     heap.pop_back();
     const NodeInfo& info = nodes[n];
     // A decoded skeleton keeps every child range inside the nodes (decodeSkeleton).

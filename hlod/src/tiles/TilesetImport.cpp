@@ -538,7 +538,7 @@ class Importer {
       s.params.levelFactor = std::clamp(numberIn(p, "levelFactor", 4.0), 2.0, 64.0);
       s.params.desiredTri = std::uint32_t(std::max(1.0, numberIn(p, "desiredTri", 1.0)));
       s.params.cTex = std::clamp(numberIn(p, "cTex", options_.cTex), 0.0, 1.0);
-      s.params.simplifier = p.value("simplifier", std::string("3d-tiles"));
+      s.params.simplifier = p.value("simplifier", std::string(kTilesetSimplifier));
     } else {
       // What the tileset's tree looks like in the builder's terms: its mean branching and its
       // roots' median triangles.
@@ -553,7 +553,7 @@ class Importer {
       s.params.levelFactor = std::clamp(inner ? double(children) / double(inner) : 2.0, 2.0, 64.0);
       s.params.desiredTri = std::max<std::uint32_t>(1, rootTris[rootTris.size() / 2]);
       s.params.cTex = options_.cTex;
-      s.params.simplifier = "3d-tiles";
+      s.params.simplifier = kTilesetSimplifier;
     }
     // The quadtree over the blocks' roots (the hlod_0 nodes, below any cell nodes).
     Skeleton blocks = s;

@@ -34,7 +34,8 @@ std::string sourceOf(const hlod::Skeleton& sk) {
   // importer wrote say it (TilesetImport, BuildFromInputs, CityJsonFrame). An hlodr export read
   // back keeps the store it came from, and so its source.
   const std::string& crs = sk.crs.description;
-  if (sk.params.simplifier == "3d-tiles" || crs.starts_with("3D Tiles")) return "3d-tiles";
+  if (sk.params.simplifier == hlod::kTilesetSimplifier || crs.starts_with("3D Tiles"))
+    return "3d-tiles";
   if (crs.starts_with("city folder")) return "city";
   if (crs.starts_with("EPSG:") || crs.starts_with("none declared")) return "cityjson";
   if (crs.ends_with("inputs placed through ECEF in east-north-up metres at the first one's origin"))

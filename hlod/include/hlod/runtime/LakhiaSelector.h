@@ -83,8 +83,9 @@ class LakhiaSelector final : public Selector {
   std::vector<std::uint8_t> visible_;          // in the frustum, as of evaluatedFrame_
   std::vector<std::uint8_t> capped_;           // sliceSiblings scratch
   std::vector<std::uint32_t> slicedFrame_;     // frame a node's timeSlice_ was last set
-  double aimMs_ = 0.0;        // c_aim * the drawing's budget this frame: what the slices share
-  bool errorsKnown_ = false;  // some node with children has a geometric error above 0
+  double aimMs_ = 0.0;         // c_aim * the drawing's budget this frame: what the slices share
+  bool errorsKnown_ = false;   // some node with children has a geometric error above 0
+  bool errorBenefit_ = false;  // benefits from errors (LakhiaParams::c_errorBenefit)
   // The geometric error drawing node n removes where benefits come from errors, else 0.
   double errorRemoved(std::uint32_t n) const;
 };
