@@ -34,6 +34,15 @@ bool allFinite(const Selection& s) {
   return true;
 }
 
+// Two blocks side by side along X (roots 0 and 1), `depth` levels below hlod_0.
+Skeleton twoBlocks(int depth) {
+  SyntheticCity c;
+  c.blocksX = 2;
+  c.blocksY = 1;
+  c.depth = depth;
+  return makeSyntheticCity(c);
+}
+
 class RefuseNodes final : public Residency {
  public:
   std::vector<std::uint32_t> missing;
@@ -422,11 +431,7 @@ TEST(LakhiaSelector, ARefinementKeptFromAnEarlierViewGivesWayToOneTheNewViewNeed
   // Two blocks, each a root of 1000 triangles over three children of 1000. The budget pays for
   // one block refined (4000 triangles), not both (6000). The walk refines nothing anew
   // (c_hystRefine), so the budget fill alone decides which block is refined.
-  SyntheticCity c;
-  c.blocksX = 2;
-  c.blocksY = 1;
-  c.depth = 1;
-  const Skeleton sk = makeSyntheticCity(c);
+  const Skeleton sk = twoBlocks(1);
   ASSERT_EQ(sk.roots.size(), 2u);
   const std::uint32_t a = sk.roots[0], b = sk.roots[1];
   SelectorParams p;
@@ -467,11 +472,7 @@ TEST(LakhiaSelector, ARefinementKeptFromAnEarlierViewGivesWayToOneTheNewViewNeed
 }
 
 TEST(LakhiaSelector, WithErrorsKnownABenefitFollowsTheErrorItRemoves) {
-  SyntheticCity c;
-  c.blocksX = 2;
-  c.blocksY = 1;
-  c.depth = 2;
-  const Skeleton even = makeSyntheticCity(c);
+  const Skeleton even = twoBlocks(2);
   ASSERT_EQ(even.roots.size(), 2u);
   const std::uint32_t a = even.roots[0], b = even.roots[1];
   ASSERT_GT(even.nodes[a].geometricError, 0.0);

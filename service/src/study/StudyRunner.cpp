@@ -166,32 +166,32 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
       const bool studied = next < frames.size() && frames[next] == f;
       if (c.mode == hlod::FrameMode::Settled && !studied) continue;
       if (cancelled()) return hlod::makeError("cancelled");
+      // A frame of the run; an error names the run and the path frame.
+      auto render = [&](std::uint64_t frame) -> hlod::Result<hlod::FrameRecord> {
+        auto rec = (*s)->renderFrame(path.sampleFrame(frame, o.fps, aspect), c.mode);
+        if (!rec)
+          return hlod::makeError(c.label() + ", frame " + std::to_string(frame) + ": " +
+                                 rec.message());
+        return rec;
+      };
       if (c.mode == hlod::FrameMode::Settled && o.occlusion != hlod::OcclusionMode::Off)
         for (std::uint64_t w = f - std::min<std::uint64_t>(f, 2); w < f; ++w)
-          if (auto warm = (*s)->renderFrame(path.sampleFrame(w, o.fps, aspect), c.mode); !warm)
-            return hlod::makeError(c.label() + ", frame " + std::to_string(w) + ": " +
-                                   warm.message());
-      const hlod::CameraSample sample = path.sampleFrame(f, o.fps, aspect);
+          if (auto warm = render(w); !warm) return warm.error();
       // A budgeted selector's front follows its hysteresis, a step per frame: settled, it is
       // the front it comes to rest on with the camera held still at the studied frame (until a
       // frame toggles nothing, at most kSettleFrames), as SSE's is at once.
       if (c.mode == hlod::FrameMode::Settled && (*s)->selector().budgeted())
         for (int k = 0; k < kSettleFrames; ++k) {
-          auto still = (*s)->renderFrame(sample, c.mode);
-          if (!still)
-            return hlod::makeError(c.label() + ", frame " + std::to_string(f) + ": " +
-                                   still.message());
+          auto still = render(f);
+          if (!still) return still.error();
           if (still->upToggles + still->downToggles == 0) break;
         }
-      auto rec = (*s)->renderFrame(sample, c.mode);
-      if (!rec)
-        return hlod::makeError(c.label() + ", frame " + std::to_string(f) + ": " + rec.message());
+      auto rec = render(f);
+      if (!rec) return rec.error();
       std::vector<double> frameMs = {rec->gpuMs};
       for (int k = 1; c.mode == hlod::FrameMode::Settled && k < kTimedFrames; ++k) {
-        rec = (*s)->renderFrame(sample, c.mode);
-        if (!rec)
-          return hlod::makeError(c.label() + ", frame " + std::to_string(f) + ": " +
-                                 rec.message());
+        rec = render(f);
+        if (!rec) return rec.error();
         frameMs.push_back(rec->gpuMs);
       }
       // The last frame's front, image and counts; the frames' median time.
@@ -222,6 +222,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
         for (float v : *fm) sum += v;
         r.flip = fm->empty() ? 0.0 : sum / double(fm->size());
         r.coverage = *cov;
+        const hlod::CameraSample sample = path.sampleFrame(f, o.fps, aspect);
         hlod::View view{sample.camera, sample.velocity, o.width, o.height};
         view.camera.aspect = aspect;
         const auto e = frontScreenError((*s)->skeleton(), view, (*s)->driver().lastFront());
