@@ -2,7 +2,7 @@
 # Installs what is missing, builds, and runs the whole test suite (unit, GL, hard cases, service,
 # fuzz corpora and browser tests); then the same suite, less the browser test, built with ASan +
 # UBSan (build-asan/), the service tests built with ThreadSanitizer (build-tsan/), and a fuzz
-# smoke of 20 s per target. CI runs all of it.
+# smoke of 10 s per target. CI runs all of it.
 #   scripts/test.sh            everything
 #   scripts/test.sh --quick    the gcc build and suite only (for developers)
 set -euo pipefail
@@ -36,11 +36,16 @@ ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 600
 echo "test: the sanitizer build (clang, ASan + UBSan) and its suite"
 scripts/build.sh --sanitize
 # The browser tests are left out here: they drive Chromium, and the gcc suite runs them.
+# Three of the longest tests are left out too, each run by the gcc suite: two read every tile
+# of NASA's Mars set (export and re-import, the 'add' variant; MarsTileset's other tests read
+# it through the same reader here), one builds 200 k glTF instances (its smaller cases run
+# here): under ASan the three longest, a third of its test time.
 (. scripts/sanitize-env.sh &&
-  ctest --test-dir build-asan --output-on-failure -j"$(nproc)" --timeout 900 -LE 'web|tiles')
+  GTEST_FILTER='-TilesetExportMars.AYUpStoreFromATilesetExportsValidAndReadsBackTheSame:MarsTileset.TheAddVariantImportsWithEveryTilesTrianglesOnceInTheLeaves:GltfSceneLimits.TwoHundredThousandInstancesOfOneQuadAtOnePlaceBuild' \
+    ctest --test-dir build-asan --output-on-failure -j"$(nproc)" --timeout 900 -LE 'web|tiles')
 echo "test: the service tests built with ThreadSanitizer (clang)"
 scripts/build.sh --tsan
 (. scripts/sanitize-env.sh && ctest --test-dir build-tsan --output-on-failure -j"$(nproc)" \
   --timeout 900 -L service)
-echo "test: fuzz smoke, 20 s per target"
-scripts/fuzz.sh 20
+echo "test: fuzz smoke, 10 s per target"
+scripts/fuzz.sh 10

@@ -98,6 +98,9 @@ export const api = {
   jobFrame: (id, n) => frame('GET', `/api/jobs/${encodeURIComponent(id)}/frames/${n}`),
   jobEventsUrl: (id) => `/api/jobs/${encodeURIComponent(id)}/events`,
 
+  // A 3D Tiles export of a store: a job of kind "export" (GET /api/jobs/{id} follows it).
+  exportTiles: (sceneId) => json('POST', `/api/scenes/${encodeURIComponent(sceneId)}/export-3dtiles`, {}),
+
   studies: () => json('GET', '/api/studies').then((r) => r.studies),
   createStudy: (body) => json('POST', '/api/studies', body),
   deleteStudy: (id) => json('DELETE', `/api/studies/${encodeURIComponent(id)}`),

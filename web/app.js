@@ -7,6 +7,7 @@ import { Dashboard } from './charts.js';
 import { ViewControls } from './controls.js';
 import { formatCount } from './dom.js';
 import { ErrorBar } from './errors.js';
+import { ExportPanel } from './exports.js';
 import { JobsList } from './jobs.js';
 import { JobView } from './jobview.js';
 import { StudiesPanel } from './studies.js';
@@ -51,6 +52,13 @@ const jobView = new JobView(
 );
 const jobsList = new JobsList($('#jobs'), {
   onShow: (job) => jobView.follow(job, levelsOf(job.scene)),
+  onError,
+  onRecovered,
+});
+
+const exportPanel = new ExportPanel($('#export-tiles'), $('#export-status'), {
+  scene: () => scene,
+  onStarted: () => jobsList.refresh(),
   onError,
   onRecovered,
 });
@@ -133,9 +141,14 @@ function offerPathKinds(zUp) {
   }
 }
 
+// Where a store came from (GET /api/scenes' `source`), in the scene picker: "mars (3D Tiles)".
+const SOURCES = { '3d-tiles': '3D Tiles', city: 'city folder', cityjson: 'CityJSON', inputs: 'several inputs', mesh: 'mesh' };
+const storeLabel = (s) => (SOURCES[s.source] ? `${s.id} (${SOURCES[s.source]})` : s.id);
+
 function selectScene(id) {
   scene = scenes.find((s) => s.id === id) || null;
   if (!scene) return;
+  exportPanel.show();
   offerPathKinds(!scene.up || scene.up[2] === 1);
   offerSceneFiles(scene.sceneFiles || []);
   const t = scene.triangles || {};
@@ -153,7 +166,7 @@ async function loadScenes() {
     return;
   }
   const picker = $('#scene');
-  picker.replaceChildren(...scenes.map((s) => new Option(s.id, s.id)));
+  picker.replaceChildren(...scenes.map((s) => new Option(storeLabel(s), s.id)));
   picker.disabled = scenes.length === 0;
   if (scenes.length === 0) {
     onError(new Error('the server has no scenes: its data folder holds no NAME.hlod/ store'), 'scenes');

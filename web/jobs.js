@@ -1,5 +1,6 @@
 // The jobs list (GET /api/jobs, refreshed while any job runs): progress, the outputs of a finished
-// job (MP4, stats CSV and JSON, straight from the API), cancel for a running one.
+// job (MP4, stats CSV and JSON, straight from the API; an export's tileset.json and ZIP), cancel
+// for a running one.
 
 import { api } from './api.js';
 import { el } from './dom.js';
@@ -64,7 +65,37 @@ export class JobsList {
     this.body.replaceChildren(...this.jobs.map((job) => this.row(job)));
   }
 
+  // The remove or cancel button of a row.
+  action(job) {
+    return ACTIVE.has(job.state)
+      ? el('button', { class: 'cancel', title: 'stop the job', onclick: () => this.remove(job) }, 'Cancel')
+      : el('button', { class: 'remove', title: 'delete the job and its files', onclick: () => this.remove(job) }, '✕');
+  }
+
+  // A 3D Tiles export: no frames to show in the dashboard; its tileset and ZIP once done.
+  exportRow(job) {
+    const progress = Math.round((job.progress || 0) * 100);
+    const out = job.outputs || {};
+    const links = [];
+    if (out.tileset) links.push(el('a', { href: out.tileset, target: '_blank', rel: 'noopener' }, 'tileset'));
+    if (out.zip) links.push(el('a', { href: out.zip, download: `${job.id}-3dtiles.zip` }, 'ZIP'));
+    const result = job.result || {};
+    return el('tr', { 'data-job': job.id, 'data-state': job.state },
+      el('td', {},
+        el('span', { class: 'id' }, job.id),
+        el('div', { class: 'sub' }, `${job.scene} · 3D Tiles export`)),
+      el('td', {},
+        el('span', { class: `state ${job.state}` }, job.state),
+        el('div', { class: 'progress' }, el('i', { style: `width: ${progress}%` })),
+        el('div', { class: 'sub' }, job.state === 'done' ? `${result.tiles} tiles` : job.doing || ''),
+        job.state === 'failed' && job.error ? el('div', { class: 'job-error' }, job.error) : null),
+      el('td', { class: 'outputs' }, links.length ? links : el('span', { class: 'sub' }, '–')),
+      el('td', {}, this.action(job)),
+    );
+  }
+
   row(job) {
+    if (job.kind === 'export') return this.exportRow(job);
     const path = (job.settings && job.settings.path) || {};
     const progress = Math.round((job.progress || 0) * 100);
     const out = job.outputs || {};
@@ -72,9 +103,8 @@ export class JobsList {
     if (job.state === 'done' && out.video) links.push(el('a', { href: out.video, download: `${job.id}.mp4` }, 'MP4'));
     if (job.framesDone > 0 && out.statsCsv) links.push(el('a', { href: out.statsCsv, download: `${job.id}-stats.csv`, class: 'csv' }, 'CSV'));
     if (job.framesDone > 0 && out.statsJson) links.push(el('a', { href: out.statsJson, target: '_blank', rel: 'noopener' }, 'JSON'));
-    const action = ACTIVE.has(job.state)
-      ? el('button', { class: 'cancel', title: 'stop after the current frame', onclick: () => this.remove(job) }, 'Cancel')
-      : el('button', { class: 'remove', title: 'delete the job and its files', onclick: () => this.remove(job) }, '✕');
+    const action = this.action(job);
+    if (ACTIVE.has(job.state)) action.title = 'stop after the current frame';
     return el('tr', { 'data-job': job.id, 'data-state': job.state },
       el('td', {},
         el('button', { class: 'link', title: 'show in the dashboard', onclick: () => this.onShow(job) }, job.id),

@@ -2,6 +2,9 @@
 
 #include <cstdlib>
 #include <cstring>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "ContextBackends.h"
 
@@ -26,7 +29,15 @@ hlod::Status initialiseContext(GlContext& context, std::string backend, std::str
   context.info_ = ContextInfo{std::move(backend), str(GL_VERSION), str(GL_RENDERER), str(GL_VENDOR),
                               std::move(skipped)};
   context.info_.gpuTimers = timerQueriesTimeTheGpu(context.info_.renderer);
+  if (!context.info_.gpuTimers) keepFreedHeap();
   return hlod::Ok{};
+}
+
+void keepFreedHeap() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 8 << 20);
+  mallopt(M_TRIM_THRESHOLD, 32 << 20);
+#endif
 }
 
 bool timerQueriesTimeTheGpu(const std::string& renderer) {

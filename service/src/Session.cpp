@@ -142,7 +142,7 @@ hlod::Status Session::init(renderer::GlContext& context) {
       vdrRenderer_ ? static_cast<hlod::NodeRenderer&>(*vdrRenderer_) : *renderer_;
   driver_ = std::make_unique<hlod::FrameDriver>(std::move(selector), std::move(ahead), *loader_,
                                                 nodes, fo);
-  return driver_->start(options_.knownVTime);
+  return driver_->start(options_.knownVTime, options_.knownFixedMs);
 }
 
 std::string Session::loadFailure() const {

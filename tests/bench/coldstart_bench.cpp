@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
               height, budget, repeat);
   std::printf("%-30s %12s %8s %12s %9s %14s %8s\n", "camera", "measured: ms", "x budget",
               "triangles", "again ms", "known v: ms", "x budget");
-  double known = 0.0;
+  hlod::FrontTiming known;
   std::vector<double> ratios[2];  // first frame / budget: measured v_time, known v_time
   for (const View& v : views) {
     for (int r = 0; r < repeat; ++r) {
@@ -90,7 +90,8 @@ int main(int argc, char** argv) {
         o.width = width;
         o.height = height;
         o.budgetMs = budget;
-        o.knownVTime = pass == 0 ? 0.0 : known;  // second: from the session before
+        o.knownVTime = pass == 0 ? 0.0 : known.vTime;  // second: from the session before
+        o.knownFixedMs = pass == 0 ? 0.0 : known.fixedMs;
         auto s = service::Session::create(source, o);
         if (!s) {
           std::fprintf(stderr, "%s\n", s.message().c_str());
@@ -121,7 +122,7 @@ int main(int argc, char** argv) {
           std::sort(again.begin(), again.end());
           againMs = again[1];
         }
-        known = (*s)->selector().vTime();
+        known = (*s)->driver().timing();
         if (pass == 0 && r == 0 && &v == &views.front())
           std::fprintf(stderr, "(measured v_time %.3g ms per cost unit)\n",
                        (*s)->driver().measuredVTime());

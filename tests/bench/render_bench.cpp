@@ -1,8 +1,10 @@
 // Full-detail rendering throughput at 1280x720: triangles per second on this machine's GL
 // (llvmpipe here). The scene is the default procedural city, every block at full detail, seen
 // from the default three-quarter view; and a single block close up (fill-bound rather than
-// vertex-bound). Run: build/tests/render_bench
+// vertex-bound). Each also with glibc's default heap thresholds, as before renderer::keepFreedHeap
+// (`_glibc_heap`), side by side. Run: build/tests/render_bench
 #include <benchmark/benchmark.h>
+#include <malloc.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -49,9 +51,13 @@ Scene& city(int blocks) {
   return s;
 }
 
-void renderCity(benchmark::State& state, int blocks, bool closeUp) {
+void renderCity(benchmark::State& state, int blocks, bool closeUp, bool glibcHeap = false) {
   Scene& s = city(blocks);
   s.context->makeCurrent();
+  if (glibcHeap) {
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+    mallopt(M_TRIM_THRESHOLD, 128 * 1024);
+  }
   std::vector<const renderer::GpuMesh*> list;
   std::uint64_t triangles = 0;
   for (const auto& m : s.meshes) {
@@ -72,6 +78,7 @@ void renderCity(benchmark::State& state, int blocks, bool closeUp) {
   state.counters["tris_per_s"] =
       benchmark::Counter(double(triangles), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["gpu_ms"] = gpuMs / double(state.iterations());
+  if (glibcHeap) renderer::keepFreedHeap();
 }
 
 }  // namespace
@@ -83,6 +90,16 @@ BENCHMARK_CAPTURE(renderCity, default_city_overview, hlod::kDefaultCityBlocks, f
     ->MinTime(2.0);
 // The same triangles, seen from closer: more pixels per triangle.
 BENCHMARK_CAPTURE(renderCity, default_city_close, hlod::kDefaultCityBlocks, true)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+
+BENCHMARK_CAPTURE(renderCity, default_city_overview_glibc_heap, hlod::kDefaultCityBlocks, false,
+                  true)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+BENCHMARK_CAPTURE(renderCity, default_city_close_glibc_heap, hlod::kDefaultCityBlocks, true, true)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(2.0);

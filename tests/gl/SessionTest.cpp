@@ -4,6 +4,8 @@
 #include "service/BatchedReference.h"
 #include "service/Session.h"
 
+#include <malloc.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 
 #include <unistd.h>
@@ -237,6 +239,47 @@ TEST_F(SessionTest, StartMeasuresVTimeAndTheFeedbackMovesIt) {
     ASSERT_TRUE((*session)->renderFrame(samples[i], hlod::FrameMode::Realtime).ok());
   const auto all = frames(**session);
   EXPECT_NE(all.back().vTime, all.front().vTime);
+}
+
+// llvmpipe allocates and frees its working memory at every draw. With glibc's defaults the
+// freed top of the heap went back to the kernel once a frame's image was read back and freed,
+// and every draw of the next frame faulted its pages in again (renderer::keepFreedHeap). A frame
+// of an unchanged front, its image read back as every user of a session does, faults in no
+// fresh memory.
+TEST_F(SessionTest, AFrameOfAnUnchangedFrontFaultsInNoFreshMemory) {
+#ifdef HLODR_SANITIZE_BUILD
+  GTEST_SKIP() << "the sanitizers' allocator is not glibc's malloc";
+#endif
+  // glibc's defaults, as a fresh process has them (this one may have raised them already).
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+  mallopt(M_TRIM_THRESHOLD, 128 * 1024);
+  service::SessionOptions o;
+  o.width = 640;
+  o.height = 360;
+  o.selector = "full";
+  auto session = service::Session::open(tinyStore(), o);
+  ASSERT_TRUE(session.ok()) << session.message();
+  const auto sample = path->sampleAt(10.0, 640.0 / 360.0)[0];
+  auto faults = [] {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_minflt;
+  };
+  constexpr int kWarm = 3, kFrames = 10;
+  long drawing = 0;  // the faults of the frames alone, their read-backs left out
+  std::uint64_t triangles = 0;
+  for (int i = 0; i < kWarm + kFrames; ++i) {
+    const long before = faults();
+    auto r = (*session)->renderFrame(sample, hlod::FrameMode::Settled);
+    ASSERT_TRUE(r.ok()) << r.message();
+    if (i >= kWarm) drawing += faults() - before;
+    triangles = r->triangles;
+    EXPECT_FALSE((*session)->readback().pixels.empty());
+  }
+  EXPECT_GT(triangles, 0u);
+  const double perFrame = double(drawing) / kFrames;
+  // A few pages for the frame's records; without keepFreedHeap, hundreds.
+  EXPECT_LT(perFrame, 32.0) << triangles << " triangles a frame";
 }
 
 TEST_F(SessionTest, TwoSessionsRunSideBySideOnOneThread) {

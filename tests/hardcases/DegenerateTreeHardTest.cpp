@@ -237,9 +237,11 @@ TEST(DegenerateTree, SiblingsWhosePrioritiesSumToZeroShareTheirParentsSliceEqual
     const Frames f = run(name, sk, facadeView(), hlod::AllResident{});
     expectSane(sk, facadeView(), hlod::AllResident{}, f);
   }
-  // Lakhia's eq. 4 divides by the sum of the priorities: with none, the slices are equal.
+  // Lakhia's eq. 4 divides by the sum of the priorities: with none, the slices are equal. The
+  // paper's benefit (with benefits from errors, a leaf has its parent's error: not zero).
   hlod::SelectorParams params;
   params.lakhia.c_targetTime = 100.0;
+  params.lakhia.c_errorBenefit = 0.0;
   hlod::LakhiaSelector lakhia(sk, params);
   lakhia.setVTime(1e-2);  // root 1 ms, children 1 ms each: 3 ms of 100
   const hlod::Selection s = lakhia.select(facadeView(), hlod::AllResident{});

@@ -252,6 +252,10 @@ TEST_F(ServerTest, TooManyJobsAnswers429WithRetryAfter) {
   EXPECT_EQ(second->status, 429);
   EXPECT_EQ(errorCode(second), "too_many_jobs");
   EXPECT_EQ(second->get_header_value("Retry-After"), "1");
+  // An export is a job like the others.
+  auto exported = post("/api/scenes/city/export-3dtiles", json::object());
+  EXPECT_EQ(exported->status, 429);
+  EXPECT_EQ(errorCode(exported), "too_many_jobs");
   EXPECT_EQ(client().Delete("/api/jobs/" + id)->status, 200);
 }
 

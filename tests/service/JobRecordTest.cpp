@@ -6,11 +6,6 @@ using namespace svctest;
 
 namespace {
 
-fs::path jobsFolder() {
-  return dataDir() /
-         ("jobs_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-}
-
 // Rewrites the createdAt of a job's record (a job made days ago).
 void backdate(const fs::path& dir, const std::string& createdAt) {
   std::ifstream in(dir / "job.json");

@@ -41,6 +41,12 @@ inline fs::path dataDir() {
   return dir;
 }
 
+// A jobs folder of the running test's own (a server restarted on it finds its jobs again).
+inline fs::path jobsFolder() {
+  return dataDir() /
+         ("jobs_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+}
+
 inline fs::path webDir() {
   static const fs::path dir = processDir("web");
   return dir;

@@ -185,6 +185,16 @@ TEST(BlockQuadtree, ABuiltSkeletonWithAnchorsGetsAGeographicTreeOfTheMedianBlock
   for (const QuadBlock& b : m.blocks) EXPECT_TRUE(inside(m.rect, b.anchor));
 }
 
+TEST(BlockQuadtree, TheSquareAroundALoneBlockFarFromTheOriginHasAWidth) {
+  // lo + 1 == lo at 1e38: a square of no width gave 0/0 cell indices (the tileset fuzzer).
+  const std::vector<QuadBlockInput> blocks = {{0, {1e38, -1e38}, {}}};
+  const QuadRect r = squareAround(blocks);
+  EXPECT_GT(r.maxU, r.minU);
+  EXPECT_GT(r.maxV, r.minV);
+  const BlockQuadtree t = buildBlockQuadtree(QuadtreeDomain::Model, r, 3, blocks);
+  EXPECT_EQ(t.blocks.size(), 1u);
+}
+
 TEST(BlockQuadtree, TheSquareAroundAnchorsFarFromTheOriginHoldsThemAll) {
   // lo + (hi - lo) rounds below hi here: a tileset the fuzzer made had these two anchors, and the
   // store's codec refused the quadtree it wrote.

@@ -85,8 +85,8 @@ TEST(FrameDriver, StartPutsHlod0OnTheGpuAndMeasuresTheMachinesVTime) {
   ASSERT_TRUE(rig.driver->start().ok());
   for (std::uint32_t r : rig.source.skeleton().roots)
     EXPECT_TRUE(rig.renderer.onGpu().isResident(r));
-  // The probe's timed draws of the front the budget selected for the default view:
-  // (msPerFrame + k * tris) / cost of that front.
+  // The probe's timed draws of the front the budget selected for the default view, less the
+  // fixed cost that an empty front measured (msPerFrame): k * tris / cost of that front.
   const auto& nodes = rig.source.skeleton().nodes;
   const auto& probed = rig.renderer.lastFront;
   ASSERT_GT(probed.size(), rig.source.skeleton().roots.size());  // finer than hlod_0
@@ -95,7 +95,7 @@ TEST(FrameDriver, StartPutsHlod0OnTheGpuAndMeasuresTheMachinesVTime) {
     tris += nodes[n].numTri;
     cost += std::max(nodes[n].cost, rig.driver->selector().params().lakhia.c_minCost);
   }
-  const double expected = (0.5 + 1e-4 * tris) / cost;
+  const double expected = 1e-4 * tris / cost;
   EXPECT_NEAR(rig.driver->measuredVTime(), expected, expected * 1e-9);
   EXPECT_DOUBLE_EQ(rig.driver->selector().vTime(), expected);
   // The probe is not a frame of the session.
@@ -118,6 +118,29 @@ TEST(FrameDriver, StartProbesABudgetSizedFrontWhereHlod0AloneWouldMisjudgeTheMac
     // No toggles against the probe: it had a selector of its own.
     EXPECT_EQ(r->upToggles + r->downToggles, 0u);
   }
+}
+
+TEST(FrameDriver, StartKeepsTheCostOfFillingThePixelsOutOfVTime) {
+  // Filling the model's pixels costs as much as hlod_0's triangles, for any front: a v_time
+  // through the origin would price each refinement at about twice its cost. The fixed part is
+  // measured, and the first frame, refined below hlod_0, holds the budget.
+  Rig rig(heavyCity(), 8.0);
+  rig.renderer.msFill = 3.2;
+  ASSERT_TRUE(rig.driver->start().ok());
+  EXPECT_NEAR(rig.driver->fixedMs(), rig.renderer.msPerFrame + rig.renderer.msFill, 1e-9);
+  EXPECT_NEAR(rig.driver->measuredVTime(),
+              rig.renderer.msPerTriangle * 2000.0 / rig.source.skeleton().nodes[0].cost, 1e-9);
+  auto r = rig.driver->renderFrame(rig.street(), FrameMode::Settled);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_GT(deeperThanHlod0(*r), 0u);
+  EXPECT_LE(r->gpuMs, 1.1 * 8.0);
+  EXPECT_GT(r->gpuMs, 0.8 * 8.0);
+  // A later session starts from both.
+  const FrontTiming t = rig.driver->timing();
+  Rig again(heavyCity(), 8.0);
+  again.renderer.msFill = 3.2;
+  ASSERT_TRUE(again.driver->start(t.vTime, t.fixedMs).ok());
+  EXPECT_DOUBLE_EQ(again.driver->fixedMs(), t.fixedMs);
 }
 
 TEST(FrameDriver, AGivenVTimeOrAnUnbudgetedSelectorSkipsTheProbe) {

@@ -23,6 +23,8 @@ class SimulatedRenderer final : public NodeRenderer {
   double msPerTriangle = 1e-4;  // 10 M triangles/s
   double msPerSplat = 0.5e-4;   // a point costs half a triangle
   double msPerFrame = 0.5;      // clear, state changes: not proportional to the front
+  // Filling the pixels the model covers: any front that is not empty, whatever its detail.
+  double msFill = 0.0;
   double msPerUpload = 1.0;
   double msScreenPass = 0.0;  // a per-pixel pass (as SSAO): the same whatever the front
   // A shadow pass that draws the front again at this share of the geometry pass's time (0: none).
@@ -92,7 +94,7 @@ class SimulatedRenderer final : public NodeRenderer {
       d.triangles += t;
       weighted += static_cast<double>(t) * (levels_.at(n) > 0 ? deeperTriangleFactor : 1.0);
     }
-    const double geometry = msPerFrame + msPerTriangle * weighted;
+    const double geometry = msPerFrame + (front.empty() ? 0.0 : msFill) + msPerTriangle * weighted;
     const double shadow = shadowShare * msPerTriangle * weighted;
     d.ms = shadow + geometry + msScreenPass + boxMs;
     d.gpuMs = d.ms;

@@ -4,6 +4,7 @@
 // trip store -> export -> import -> store that gives back every node.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -311,6 +312,25 @@ TEST_F(TilesetExport, AFolderThatIsNoExportIsNeverReplaced) {
   EXPECT_TRUE(fs::exists(dir.file("mine/notes.txt")));
   // An earlier export is replaced.
   EXPECT_TRUE(exportTileset(*store_, dir.file("tiles")));
+}
+
+TEST_F(TilesetExport, ACancelledExportStopsAndLeavesNoFolderBehind) {
+  build(false);
+  // Cancelled after the first node: the progress callback sets the flag the exporter checks.
+  std::atomic<bool> cancel{false};
+  TilesetExportOptions o;
+  o.cancel = &cancel;
+  std::size_t calls = 0;
+  auto r = exportTileset(*store_, dir.file("again"), o, [&](std::size_t, std::size_t) {
+    ++calls;
+    cancel = true;
+  });
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.message(), "cancelled");
+  EXPECT_EQ(calls, 1u);
+  EXPECT_FALSE(fs::exists(dir.file("again")));
+  for (const auto& e : fs::directory_iterator(dir.file("")))
+    EXPECT_EQ(e.path().filename().string().find("again.tmp"), std::string::npos) << e.path();
 }
 
 }  // namespace

@@ -498,6 +498,28 @@ test('a scene file is offered with its effects, and picking it draws it from its
   assert.equal(createRequests.sessions.at(-1).scene, 'city');
 });
 
+test('the scene picker says where a store came from, and the scene exports as 3D Tiles', async () => {
+  const labels = await page.locator('#scene').evaluate((s) => [...s.options].map((o) => o.textContent));
+  if (!process.env.HLODR_WEB_URL) assert.deepEqual(labels, ['city (city folder)', 'tall (mesh)']);
+  await page.selectOption('#scene', 'city');
+  await page.click('#export-tiles');
+  const url = page.locator('#export-url');
+  await url.waitFor({ timeout: 60000 });
+  const href = await url.inputValue();
+  assert.match(href, /^http:\/\/[^/]+\/api\/jobs\/e[0-9a-f]+\/tiles\/tileset\.json$/);
+  const zip = await page.locator('#export-zip').getAttribute('href');
+  const got = await page.evaluate(async ([tileset, archive]) => {
+    const t = await fetch(tileset);
+    const z = await fetch(archive);
+    const bytes = new Uint8Array(await z.arrayBuffer());
+    return { status: t.status, version: (await t.json()).asset.version, zipStatus: z.status, magic: String.fromCharCode(...bytes.slice(0, 2)) };
+  }, [href, zip]);
+  assert.deepEqual(got, { status: 200, version: '1.1', zipStatus: 200, magic: 'PK' });
+  const id = href.split('/')[5];
+  await page.locator(`#jobs tr[data-job="${id}"][data-state="done"] a[href$="tileset.json"]`).waitFor({ timeout: 15000 });
+  await shot('11-export');
+});
+
 test('the page uses nothing but its own server, and the vendored uPlot is unchanged', () => {
   assert.deepEqual(offOrigin, []);
   // web/vendor/uplot/SHA256SUMS holds the hashes of the npm package's files (uplot@1.6.32).

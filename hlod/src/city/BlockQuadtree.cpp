@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "hlod/geodesy/Geodesy.h"
@@ -45,7 +46,12 @@ QuadRect squareAround(std::span<const QuadBlockInput> blocks) {
     lo = i ? glm::min(lo, blocks[i].anchor) : blocks[i].anchor;
     hi = i ? glm::max(hi, blocks[i].anchor) : blocks[i].anchor;
   }
-  double side = std::max({hi.x - lo.x, hi.y - lo.y, 1.0});
+  // Far from the origin a side of 1 may vanish beside lo (lo + 1 == lo: a square of no width,
+  // and 0/0 cell indices): at least a few of lo's units in the last place.
+  const auto ulp = [](double v) {
+    return std::nextafter(std::abs(v), std::numeric_limits<double>::infinity()) - std::abs(v);
+  };
+  double side = std::max({hi.x - lo.x, hi.y - lo.y, 1.0, 4.0 * ulp(lo.x), 4.0 * ulp(lo.y)});
   // Far from the origin lo + side may round below hi (the store's codec then finds an anchor
   // outside the rectangle): grow the side until the square holds every anchor.
   const bool finite =

@@ -142,11 +142,17 @@ Result<DrawSplit> FrameDriver::timeDraws(const Camera& camera, std::span<const s
   return median;
 }
 
+double FrameDriver::frontMs(double geometryMs) const {
+  // At most half of a draw is taken as fixed: a noisy measurement of the fixed cost never leaves
+  // v_time learning from nothing.
+  return geometryMs - std::min(fixedMs_, 0.5 * geometryMs);
+}
+
 double FrameDriver::frontDraws() const {
   return renderer_.drawsShadowPass() ? 1.0 + shadowShare_.vTime() : 1.0;
 }
 
-Status FrameDriver::start(double knownVTime) {
+Status FrameDriver::start(double knownVTime, double knownFixedMs) {
   if (auto roots = loader_.loadRoots(); !roots) return roots.error();
   // hlod_0 is what everything falls back to: on the GPU before the first frame, unbudgeted.
   drainLoader();
@@ -159,17 +165,23 @@ Status FrameDriver::start(double knownVTime) {
   // The whole model in view, upright, as its default view shows it.
   const double aspect = static_cast<double>(options_.width) / options_.height;
   const Camera cam = bounds_.empty() ? Camera{} : defaultView(bounds_, skel.up, 60.0, aspect);
+  TimedFront roots;
   if (!bounds_.empty()) {
+    auto empty = timeDraws(cam, {}, {});
+    if (!empty) return empty.error();
+    fixedMs_ = empty->geometryMs;
     const std::vector<std::uint32_t> front = nearToFar(skel, cam.position, skel.roots);
     auto timed = timeDraws(cam, front, {});
     if (!timed) return timed.error();
-    double cost = 0.0;
     for (std::uint32_t r : skel.roots)
-      cost += std::max(skel.nodes[r].cost, selector_->params().lakhia.c_minCost);
+      roots.cost += std::max(skel.nodes[r].cost, selector_->params().lakhia.c_minCost);
+    roots.geometryMs = timed->geometryMs;
     // Per-pixel passes do not scale with the front, and the shadow pass has its share: v_time is
     // the geometry pass per unit of cost.
-    if (timed->geometryMs > 0.0 && cost > 0.0) measuredVTime_ = timed->geometryMs / cost;
+    if (timed->geometryMs > 0.0 && roots.cost > 0.0)
+      measuredVTime_ = frontMs(timed->geometryMs) / roots.cost;
   }
+  if (known && knownFixedMs > 0.0 && std::isfinite(knownFixedMs)) fixedMs_ = knownFixedMs;
   const double v = known ? knownVTime : measuredVTime_;
   if (v > 0.0 && std::isfinite(v)) {
     selector_->setVTime(v);
@@ -177,19 +189,15 @@ Status FrameDriver::start(double knownVTime) {
   }
   if (options_.loaderThread) loader_.start();
   if (!known && !bounds_.empty() && measuredVTime_ > 0.0 && selector_->budgeted())
-    return probeVTime(cam);
+    return probeVTime(cam, roots);
   return Ok{};
 }
 
-// hlod_0 is few nodes, each drawn small: a front that fills the budget has many more draw calls
-// and larger triangles per unit of cost, and on llvmpipe took 1.16x (median) what hlod_0's
-// v_time promised (coldstart_bench). So v_time comes from such a front: the one the budget
-// selects for `camera`, loaded, drawn once to pay its first use, then timed (median of 3).
-Status FrameDriver::probeVTime(const Camera& camera) {
+Result<FrameDriver::TimedFront> FrameDriver::probeFront(const Camera& camera, double vTime) {
   // Its own selector, so that the probe leaves no hysteresis or toggle history for frame 0.
   auto probe = makeSelector(selector_->name(), selector_->skeleton(), selector_->params());
   if (!probe) return probe.error();
-  (*probe)->setVTime(measuredVTime_);
+  (*probe)->setVTime(vTime);
   std::swap(selector_, *probe);
   CameraSample sample;
   sample.camera = camera;
@@ -201,20 +209,47 @@ Status FrameDriver::probeVTime(const Camera& camera) {
   options_.settleTimeout = settleTimeout;
   std::swap(selector_, *probe);
   if (!first) return first.error();
-  const double cost = (*probe)->lastEstimatedCost();
   // renderFrame drew the front once: its first use is paid, timeDraws pays it again (cheap).
   auto timed = timeDraws(camera, lastFront_, lastDraws_);
   if (!timed) return timed.error();
-  if (timed->geometryMs > 0.0 && cost > 0.0) {
-    measuredVTime_ = timed->geometryMs / cost;
-    selector_->setVTime(measuredVTime_);
-    if (prefetchSelector_) prefetchSelector_->setVTime(measuredVTime_);
-  }
   // Not a frame of the session.
   frames_ = 0;
   recent_.clear();
   lastFront_.clear();
   lastDraws_.clear();
+  return TimedFront{(*probe)->lastEstimatedCost(), timed->geometryMs};
+}
+
+// hlod_0 is few nodes, each drawn small: a front that fills the budget has many more draw calls
+// and larger triangles per unit of cost, and on llvmpipe took 1.16x (median) what hlod_0's
+// v_time promised (coldstart_bench). So v_time comes from such a front: the one the budget
+// selects for `camera`, loaded, drawn once to pay its first use, then timed (median of 3).
+// The same camera's hlod_0 and that front also give the part of the geometry pass that no
+// front changes: filling the pixels the model covers, which a finer front covers alike. On
+// llvmpipe it is most of a small front's time, and a v_time through the origin then prices
+// every refinement at several times its cost (Lakhia at 8 ms drew NASA's Mars set's root alone).
+// Where the budget's front is not at least twice hlod_0's cost, a front of twice the budget is
+// timed instead.
+Status FrameDriver::probeVTime(const Camera& camera, const TimedFront& roots) {
+  auto front = probeFront(camera, measuredVTime_);
+  if (!front) return front.error();
+  if (front->cost < 2.0 * roots.cost) {
+    auto larger = probeFront(camera, 0.5 * measuredVTime_);
+    if (!larger) return larger.error();
+    front = std::move(larger);
+  }
+  if (!(front->geometryMs > 0.0 && front->cost > 0.0)) return Ok{};
+  if (front->cost >= 2.0 * roots.cost && front->geometryMs > roots.geometryMs) {
+    const double slope = (front->geometryMs - roots.geometryMs) / (front->cost - roots.cost);
+    const double intercept = roots.geometryMs - slope * roots.cost;
+    // At least the empty front's, and never all of hlod_0's time.
+    fixedMs_ = std::clamp(intercept, fixedMs_, std::max(fixedMs_, 0.9 * roots.geometryMs));
+  }
+  measuredVTime_ = frontMs(front->geometryMs) / front->cost;
+  if (measuredVTime_ > 0.0) {
+    selector_->setVTime(measuredVTime_);
+    if (prefetchSelector_) prefetchSelector_->setVTime(measuredVTime_);
+  }
   return Ok{};
 }
 
@@ -348,7 +383,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   view.occlusion = culling ? &occlusion_ : nullptr;
   // The occlusion queries' box pass costs what it cost last frame: reserved as the per-pixel
   // passes are.
-  view.spentMs = rec.uploadMs + screenPassMs_ + (culling ? occlusionMs_ : 0.0);
+  view.spentMs = rec.uploadMs + screenPassMs_ + fixedMs_ + (culling ? occlusionMs_ : 0.0);
   view.frontDraws = frontDraws();
   const auto selectStart = loader_.clock().now();
   // Settled: select as if everything were resident; that front is then loaded before drawing.
@@ -443,7 +478,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   // is the geometry pass's alone and carries over between scenes with and without shadows.
   const DrawSplit split = splitDraw(*drawn);
   screenPassMs_ = split.screenMs;
-  selector_->feedback(split.geometryMs);
+  selector_->feedback(frontMs(split.geometryMs));
   if (split.shadowMs > 0.0 && split.geometryMs > 0.0)
     shadowShare_.update(split.shadowMs, split.geometryMs);
   rec.index = frames_++;

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <tuple>
+#include <utility>
 
 namespace hlod {
 
@@ -25,9 +25,10 @@ PriorityModel::PriorityModel(const View& view, const LakhiaParams& params)
     : params_(params),
       frustum_(view.camera.frustum()),
       lookAhead_(view.camera.position + finiteOr(params.c_velocity, 0.0) * finiteOr(view.velocity)),
-      view_(view.camera.forward()) {}
+      view_(view.camera.forward()),
+      pixelsPerUnitAt1_(view.camera.pixelsPerUnit(1.0, view.viewportHeight)) {}
 
-NodePriority PriorityModel::evaluate(const NodeInfo& node) const {
+NodePriority PriorityModel::evaluate(const NodeInfo& node, double errorRemoved) const {
   NodePriority p;
   const double outside = frustum_.distanceOutside(node.bounds);
   p.visible = outside <= 0.0;
@@ -42,8 +43,13 @@ NodePriority PriorityModel::evaluate(const NodeInfo& node) const {
   p.foreshorten = std::max(0.0, 1.0 + finiteOr(facing, 0.0) * params_.c_fore);
   const double minDistance = params_.c_minDistance > 0.0 ? params_.c_minDistance : 1e-6;
   p.distance = std::max(minDistance, distanceToBox(lookAhead_, node.bounds));
-  const double staticBenefit = std::max(0.0, finiteOr(node.staticBenefit, 0.0));
-  p.benefit = finiteOr(staticBenefit * p.vis * p.foreshorten / (p.distance * p.distance), 0.0);
+  if (errorRemoved > 0.0) {
+    const double errorPx = errorRemoved * pixelsPerUnitAt1_ / std::max(p.distance, 1e-9);
+    p.benefit = finiteOr(errorPx * p.vis * p.foreshorten, 0.0);
+  } else {
+    const double staticBenefit = std::max(0.0, finiteOr(node.staticBenefit, 0.0));
+    p.benefit = finiteOr(staticBenefit * p.vis * p.foreshorten / (p.distance * p.distance), 0.0);
+  }
   const double minCost = params_.c_minCost > 0.0 ? params_.c_minCost : 1e-9;
   const double cost = std::isfinite(node.cost) ? std::max(node.cost, minCost) : minCost;
   p.priority = finiteOr(p.benefit / cost, 0.0);
@@ -60,13 +66,28 @@ LakhiaSelector::LakhiaSelector(const Skeleton& skeleton, const SelectorParams& p
       evaluatedFrame_(skeleton.nodes.size(), 0xffffffffu),
       visible_(skeleton.nodes.size(), 0),
       slicedFrame_(skeleton.nodes.size(), 0xffffffffu) {
-  // Bottom up (children follow their parents in the store): the cost of each subtree's leaves.
   const auto& nodes = skeleton.nodes;
+  errorsKnown_ = std::any_of(nodes.begin(), nodes.end(), [](const NodeInfo& n) {
+    return n.childCount > 0 && n.geometricError > 0.0;
+  });
+  const double e = params_.lakhia.c_errorBenefit;
+  errorBenefit_ =
+      errorsKnown_ && (e < 0.0 ? skeleton.params.simplifier == kTilesetSimplifier : e > 0.0);
+  // Bottom up (children follow their parents in the store): the cost of each subtree's leaves,
+  // an exact node standing for its subtree.
   for (std::size_t i = nodes.size(); i-- > 0;) {
-    if (nodes[i].childCount == 0) leafCost_[i] = effectiveCost(std::uint32_t(i));
+    if (nodes[i].childCount == 0 || exact(std::uint32_t(i)))
+      leafCost_[i] = effectiveCost(std::uint32_t(i));
     const std::uint32_t parent = nodes[i].parent;
     if (parent < nodes.size() && parent < i) leafCost_[parent] += leafCost_[i];
   }
+}
+
+double LakhiaSelector::errorRemoved(std::uint32_t n) const {
+  if (!errorBenefit_) return 0.0;
+  const NodeInfo& info = skeleton_.nodes[n];
+  if (info.geometricError > 0.0) return info.geometricError;
+  return info.parent < skeleton_.nodes.size() ? skeleton_.nodes[info.parent].geometricError : 0.0;
 }
 
 double LakhiaSelector::timeNeeded(std::uint32_t node) const {
@@ -164,7 +185,7 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
   auto visit = [&](std::uint32_t n) {
     if (evaluatedFrame_[n] == frame_) return visible_[n] != 0;
     evaluatedFrame_[n] = frame_;
-    const NodePriority np = model.evaluate(nodes[n]);
+    const NodePriority np = model.evaluate(nodes[n], errorRemoved(n));
     priority_[n] = np.priority;
     visible_[n] = np.visible;
     timeSlice_[n] = 0.0;  // invisible nodes get no share (sib() holds visible nodes only)
@@ -186,6 +207,7 @@ Selection LakhiaSelector::select(const View& view, const Residency& residency) {
   walkFront(
       visible, residency, s, [](std::uint32_t) { return true; }, visit,
       [&](std::uint32_t n, const std::vector<std::uint32_t>& children) {
+        if (exact(n)) return false;
         // shareTime of the children is the parent's timeSlice.
         const long long cumHyst = sliceSiblings(children, timeSlice_[n]);
         // Parent drawn when cumHyst < 0 (paper); refining anew needs cumHyst >= c_hystRefine.
@@ -257,9 +279,11 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
   // times their parent) is lost; summed over a city seen from above, with many blocks of equal
   // priority, that is a third of the budget. The rest of c_targetTime is spent here on further
   // refinements in priority order, as long as each fits whole. Hysteresis on the frame's total:
-  // nodes refined last frame are taken first and stay refined while the total is within
-  // (1 + c_fillKeep) of the aim by the steady v_time and (1 + c_fillFast) by the fast one; new
-  // refinements are made only below (1 - c_fillAdd).
+  // a node refined last frame stays refined while the total is within (1 + c_fillKeep) of the
+  // aim by the steady v_time and (1 + c_fillFast) by the fast one; new refinements are made only
+  // below (1 - c_fillAdd). Kept and new refinements are taken in one priority order: were the
+  // kept ones taken first, a front chosen at one viewpoint would hold the budget while the
+  // camera moves on, and nothing the new view needs more could replace it.
   const LakhiaParams& p = params_.lakhia;
   const double keepLimit = aimMs_ * (1.0 + std::clamp(finiteOr(p.c_fillKeep, 0.05), 0.0, 1.0));
   const double fastLimit = aimMs_ * (1.0 + std::clamp(finiteOr(p.c_fillFast, 0.1), 0.0, 1.0));
@@ -272,19 +296,16 @@ void LakhiaSelector::fillBudget(Selection& s, const Residency& residency, Visit&
   double cost = s.estimatedCost;  // the drawing's part of the frame, in cost units
   if (!keeps(cost) || !std::isfinite(cost)) return;
   const auto& nodes = skeleton_.nodes;
-  // Nodes refined last frame come first (they keep their refinement while it still fits), then
-  // the others by priority.
-  std::vector<std::tuple<bool, double, std::uint32_t>> heap;
+  std::vector<std::pair<double, std::uint32_t>> heap;
   auto push = [&](std::uint32_t n) {
-    if (nodes[n].childCount > 0)
-      heap.emplace_back(refinedLastFrame(n), priority_[n], n),
-          std::push_heap(heap.begin(), heap.end());
+    if (nodes[n].childCount > 0 && !exact(n))
+      heap.emplace_back(priority_[n], n), std::push_heap(heap.begin(), heap.end());
   };
   for (std::uint32_t n : s.front) push(n);
   std::vector<std::uint32_t> children;
   while (!heap.empty()) {
     std::pop_heap(heap.begin(), heap.end());
-    const std::uint32_t n = std::get<2>(heap.back());
+    const std::uint32_t n = heap.back().second;
     heap.pop_back();
     const NodeInfo& info = nodes[n];
     // A decoded skeleton keeps every child range inside the nodes (decodeSkeleton).

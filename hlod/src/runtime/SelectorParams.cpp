@@ -33,6 +33,7 @@ constexpr Named kLakhiaDoubles[] = {
     {"feedbackMaxRatio", 1.0, 1000.0, &LakhiaParams::feedbackMaxRatio},
     {"feedbackJumpRatio", 0.0, 1000.0, &LakhiaParams::feedbackJumpRatio},  // 0: off
     {"c_shed", 0.0, 100.0, &LakhiaParams::c_shed},
+    {"c_errorBenefit", -1.0, 1.0, &LakhiaParams::c_errorBenefit},
     {"c_demandMargin", 1.0, 100.0, &LakhiaParams::c_demandMargin},
     {"c_aim", 0.1, 1.5, &LakhiaParams::c_aim},
     {"c_fillKeep", 0.0, 1.0, &LakhiaParams::c_fillKeep},

@@ -137,6 +137,7 @@ Result<TilesetExportReport> exportTileset(const NodeStore& store, const fs::path
   std::vector<double> error(count, 0.0);
   std::vector<Aabb> tileBox(count);
   for (std::size_t done = 0; done < count; ++done) {
+    if (options.cancel && options.cancel->load()) return makeError("cancelled");
     const auto n = std::uint32_t(done);
     const NodeInfo& info = sk.nodes[n];
     auto mesh = store.loadNode(n);

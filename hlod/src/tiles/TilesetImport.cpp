@@ -499,8 +499,13 @@ class Importer {
       info.level = std::uint32_t(numberIn(h, "level", 0.0));
       info.block = h.value("cell", false) ? kCellBlock : std::uint32_t(numberIn(h, "block", 0.0));
       if (h.contains("anchor") && h["anchor"].is_array() && h["anchor"].size() == 2 &&
-          h["anchor"][0].is_number() && h["anchor"][1].is_number())
-        anchors[id[k]] = {h["anchor"][0].get<double>(), h["anchor"][1].get<double>()};
+          h["anchor"][0].is_number() && h["anchor"][1].is_number()) {
+        const glm::dvec2 lonLat(h["anchor"][0].get<double>(), h["anchor"][1].get<double>());
+        // JSON's 1e400 reads as infinity: the quadtree's cells need a place on the globe.
+        if (!std::isfinite(lonLat.x) || !(std::abs(lonLat.y) <= 90.0))
+          return makeError("a block's anchor is not a longitude and a latitude");
+        anchors[id[k]] = lonLat;
+      }
       s.nodes[id[k]] = info;
       if (info.parent == kNoNode) s.roots.push_back(id[k]);
     }
@@ -533,7 +538,7 @@ class Importer {
       s.params.levelFactor = std::clamp(numberIn(p, "levelFactor", 4.0), 2.0, 64.0);
       s.params.desiredTri = std::uint32_t(std::max(1.0, numberIn(p, "desiredTri", 1.0)));
       s.params.cTex = std::clamp(numberIn(p, "cTex", options_.cTex), 0.0, 1.0);
-      s.params.simplifier = p.value("simplifier", std::string("3d-tiles"));
+      s.params.simplifier = p.value("simplifier", std::string(kTilesetSimplifier));
     } else {
       // What the tileset's tree looks like in the builder's terms: its mean branching and its
       // roots' median triangles.
@@ -548,7 +553,7 @@ class Importer {
       s.params.levelFactor = std::clamp(inner ? double(children) / double(inner) : 2.0, 2.0, 64.0);
       s.params.desiredTri = std::max<std::uint32_t>(1, rootTris[rootTris.size() / 2]);
       s.params.cTex = options_.cTex;
-      s.params.simplifier = "3d-tiles";
+      s.params.simplifier = kTilesetSimplifier;
     }
     // The quadtree over the blocks' roots (the hlod_0 nodes, below any cell nodes).
     Skeleton blocks = s;
@@ -563,7 +568,9 @@ class Importer {
           anchors[i] = LatLon{a->second.y, a->second.x, 0.0};
       } else if (frame_.enu) {
         const Aabb& b = s.nodes[r].bounds;
-        anchors[i] = frame_.enu->toGeodetic({b.centre().x, b.centre().y, b.min.z});
+        const LatLon a = frame_.enu->toGeodetic({b.centre().x, b.centre().y, b.min.z});
+        // A block far out in space has no latitude: the quadtree then takes the model's frame.
+        if (std::isfinite(a.lon) && std::abs(a.lat) <= 90.0) anchors[i] = a;
       }
     }
     s.quadtree = quadtreeOfRoots(blocks, anchors);

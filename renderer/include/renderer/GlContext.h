@@ -33,6 +33,13 @@ struct ContextInfo {
 // There the wall time through glFinish is the frame's only time.
 bool timerQueriesTimeTheGpu(const std::string& renderer);
 
+// Keeps freed memory in the process (glibc): blocks up to 8 MB come from the heap, and up to
+// 32 MB of free heap is kept instead of being given back to the kernel. A software rasteriser
+// (llvmpipe) allocates and frees its working memory at every draw; with glibc's defaults the
+// heap's top is given back after each free and the next draw faults every page of it in again,
+// which was most of a frame's time. Called for every software context; process-wide.
+void keepFreedHeap();
+
 class GlContext {
  public:
   virtual ~GlContext() = default;

@@ -50,6 +50,7 @@ struct SessionOptions {
   std::shared_ptr<hlod::NodeCache> cache;  // shared with the other sessions of the server
   std::uint32_t cacheStore = 0;            // the store's number in the cache
   double knownVTime = 0.0;                 // > 0: start from this v_time instead of measuring one
+  double knownFixedMs = 0.0;               // and this fixed cost (FrameDriver::fixedMs)
   std::size_t recentFrames = 600;          // FrameRecords kept for recent() (a bounded ring)
   hlod::OcclusionMode occlusion = hlod::OcclusionMode::Auto;  // occlusion culling
   std::uint64_t gpuBudgetBytes = 0;  // GPU memory budget (GpuMemoryManager); 0 = none

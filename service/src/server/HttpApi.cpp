@@ -16,6 +16,7 @@ void installRoutes(httplib::Server& http, ApiContext& api) {
   installSessionRoutes(http, api);
   installJobRoutes(http, api);
   installStudyRoutes(http, api);
+  installExportRoutes(http, api);
 }
 
 }  // namespace service::server

@@ -9,6 +9,7 @@
 #include "hlod/AtomicFile.h"
 #include "hlod/runtime/Framing.h"
 #include "hlod/runtime/PathRun.h"
+#include "hlod/tiles/TilesetExport.h"
 #include "renderer/VideoWriter.h"
 #include "server/SessionManager.h"
 
@@ -35,6 +36,8 @@ const char* jobStateName(JobState s) {
 namespace {
 
 constexpr int kRecordVersion = 1;
+// An export's files, listed when it is done (FileList), beside its tiles/ folder.
+constexpr const char* kTileListFile = "tiles-list.json";
 
 std::string readText(const fs::path& path, const std::string& fallback) {
   std::ifstream in(path, std::ios::binary);
@@ -77,6 +80,10 @@ class JobSink final : public hlod::FrameSink {
 };
 
 }  // namespace
+
+std::time_t Job::createdTime() const {
+  return parseUtc(createdAt);
+}
 
 JobState Job::state() const {
   std::lock_guard lock(mutex_);
@@ -165,6 +172,28 @@ nlohmann::json Job::jsonLocked() const {
     if (kind == "path") j["outputs"]["video"] = video;
     return j;
   }
+  // Exports and studies: what they are and how far along, then their settings and outputs.
+  const auto progressJson = [&] {
+    return nlohmann::json{{"id", id},
+                          {"kind", kind},
+                          {"scene", scene->id},
+                          {"state", jobStateName(state_)},
+                          {"progress", progress_},
+                          {"doing", doing_},
+                          {"createdAt", createdAt},
+                          {"finished", done}};
+  };
+  if (kind == "export") {
+    const bool ready = state_ == JobState::Done;
+    nlohmann::json j = progressJson();
+    j["settings"] = {{"format", "3d-tiles"}, {"version", "1.1"}};
+    j["outputs"] = {
+        {"tileset", ready ? nlohmann::json(base + "/tiles/tileset.json") : nlohmann::json(nullptr)},
+        {"zip", ready ? nlohmann::json(base + "/tiles.zip") : nlohmann::json(nullptr)}};
+    if (!exported_.is_null()) j["result"] = exported_;
+    if (!error_.empty()) j["error"] = error_;
+    return j;
+  }
   nlohmann::json settingsJson = settings.render.json();
   settingsJson["mode"] = settings.mode == hlod::FrameMode::Settled ? "settled" : "realtime";
   settingsJson["fps"] = settings.fps;
@@ -172,30 +201,20 @@ nlohmann::json Job::jsonLocked() const {
   settingsJson["prefetch"] = settings.prefetch;
   settingsJson["path"] = settings.path.json();
   if (kind == "study") {
-    nlohmann::json j = {
-        {"id", id},
-        {"kind", kind},
-        {"scene", scene->id},
-        {"state", jobStateName(state_)},
-        {"progress", progress_},
-        {"doing", doing_},
-        {"createdAt", createdAt},
-        {"settings",
-         {{"width", study.width},
-          {"height", study.height},
-          {"frames", study.frames},
-          {"budgets", study.budgets},
-          {"selectors", study.selectors},
-          {"ssePx", study.ssePx},
-          {"mode", study.settled && study.realtime ? "both"
-                   : study.realtime                ? "realtime"
-                                                   : "settled"},
-          {"path", settings.path.json()}}},
-        {"finished", done},
-        {"outputs",
-         {{"report", state_ == JobState::Done
-                         ? nlohmann::json("/api/studies/" + id + "/report/index.html")
-                         : nlohmann::json(nullptr)}}}};
+    nlohmann::json j = progressJson();
+    j["settings"] = {{"width", study.width},
+                     {"height", study.height},
+                     {"frames", study.frames},
+                     {"budgets", study.budgets},
+                     {"selectors", study.selectors},
+                     {"ssePx", study.ssePx},
+                     {"mode", study.settled && study.realtime ? "both"
+                              : study.realtime                ? "realtime"
+                                                              : "settled"},
+                     {"path", settings.path.json()}};
+    j["outputs"] = {{"report", state_ == JobState::Done
+                                   ? nlohmann::json("/api/studies/" + id + "/report/index.html")
+                                   : nlohmann::json(nullptr)}};
     if (!error_.empty()) j["error"] = error_;
     return j;
   }
@@ -280,7 +299,8 @@ hlod::Result<std::shared_ptr<Job>> Job::restore(const fs::path& dir) {
   job->createdAt = j.value("createdAt", "");
   job->dir = dir;
   const std::string state = j.value("state", "");
-  if (job->id != dir.filename().string() || (job->kind != "path" && job->kind != "study") ||
+  if (job->id != dir.filename().string() ||
+      (job->kind != "path" && job->kind != "study" && job->kind != "export") ||
       job->createdAt.empty() || state.empty())
     return hlod::makeError("not a job record");
   job->recorded_ = j;
@@ -302,6 +322,31 @@ hlod::Result<std::shared_ptr<Job>> Job::restore(const fs::path& dir) {
       for (const auto& f : stats["frames"]) job->frameJson_.push_back(f.dump());
   }
   return job;
+}
+
+hlod::Status Job::setExported(nlohmann::json result, FileList files) {
+  if (auto s = hlod::writeFileAtomically(dir / kTileListFile, files.json().dump()); !s)
+    return s.error();
+  {
+    std::lock_guard lock(mutex_);
+    exported_ = std::move(result);
+    progress_ = 1.0;
+  }
+  std::lock_guard lock(filesMutex_);
+  tileFiles_ = std::make_shared<const FileList>(std::move(files));
+  return hlod::Ok{};
+}
+
+std::shared_ptr<const FileList> Job::tileFiles() const {
+  if (kind != "export" || state() != JobState::Done) return nullptr;
+  std::lock_guard lock(filesMutex_);
+  if (!tileFiles_) {
+    // A restored job: the list it wrote as it finished.
+    auto list = FileList::fromJson(
+        nlohmann::json::parse(readText(dir / kTileListFile, ""), nullptr, false));
+    if (list) tileFiles_ = std::make_shared<const FileList>(std::move(*list));
+  }
+  return tileFiles_;
 }
 
 fs::path Job::videoPath() const {
@@ -350,13 +395,14 @@ ApiResult<std::shared_ptr<Job>> JobManager::admitJob(std::shared_ptr<Job> job) {
     return ApiError{429, "too_many_jobs",
                     "at most " + std::to_string(limits_.maxJobs) +
                         " jobs queued or running; wait or cancel one"};
-  do job->id = newId(job->kind == "study" ? 'a' : 'j');
+  const char prefix = job->kind == "study" ? 'a' : job->kind == "export" ? 'e' : 'j';
+  do job->id = newId(prefix);
   while (std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& j) { return j->id == job->id; }));
   job->createdAt = utcNow();
   job->sequence = ++sequence_;
   job->dir = jobsDir_ / job->id;
   std::error_code ec;
-  fs::create_directories(job->dir / "frames", ec);
+  fs::create_directories(job->kind == "export" ? job->dir : job->dir / "frames", ec);
   if (ec) return ApiError{500, "internal", "cannot create the job's folder: " + ec.message()};
   jobs_.push_back(job);
   job->saveRecord();
@@ -451,6 +497,58 @@ ApiResult<nlohmann::json> JobManager::submitStudy(const std::shared_ptr<Scene>& 
   return job->json();
 }
 
+ApiResult<nlohmann::json> JobManager::submitExport(const std::shared_ptr<Scene>& scene) {
+  auto made = std::make_shared<Job>();
+  made->kind = "export";
+  made->scene = scene;
+  auto admitted = admitJob(std::move(made));
+  if (!admitted) return admitted.error();
+  std::shared_ptr<Job> job = *admitted;
+  // On a job runner like the other kinds (they bound how many run at once), though it draws
+  // nothing: it gives the GL turn away after every tile.
+  leastBusyRunner()->post([job](renderer::GlContext&) {
+    if (job->cancel) {
+      job->setState(JobState::Cancelled);
+      return;
+    }
+    job->setState(JobState::Running);
+    runExportJob(*job);
+  });
+  expire();
+  return job->json();
+}
+
+void JobManager::runExportJob(Job& job) {
+  // The exporter of `hlodr export-3dtiles`, into the job's folder.
+  hlod::tiles::TilesetExportOptions options;
+  options.cancel = &job.cancel;
+  auto report = hlod::tiles::exportTileset(
+      *job.scene->store, job.tilesDir(), options, [&](std::size_t done, std::size_t total) {
+        job.setProgress(double(done) / double(total),
+                        std::to_string(done) + "/" + std::to_string(total) + " tiles");
+        RenderWorker::yieldGl();
+      });
+  if (!report) {
+    if (job.cancel)
+      job.setState(JobState::Cancelled);
+    else
+      job.setState(JobState::Failed, report.message());
+    return;
+  }
+  auto files = FileList::read(job.tilesDir());
+  if (!files) return job.setState(JobState::Failed, files.message());
+  const nlohmann::json result = {{"tiles", report->tiles},
+                                 {"contents", report->contents},
+                                 {"sharedTextures", report->sharedTextures},
+                                 {"files", files->files().size()},
+                                 {"bytes", report->bytes},
+                                 {"geoReferenced", report->geoReferenced},
+                                 {"frame", report->frame}};
+  if (auto s = job.setExported(result, std::move(*files)); !s)
+    return job.setState(JobState::Failed, "cannot list the tileset's files: " + s.message());
+  job.setState(JobState::Done);
+}
+
 void JobManager::runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
                             renderer::GlContext& gl) {
   auto session = openSession(*job->scene, job->settings.render, gl, scenes_.cache());
@@ -481,8 +579,8 @@ void JobManager::runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraP
   o.mode = job->settings.mode;
   o.prefetchSeconds = job->settings.prefetch ? 1.0 : 0.0;
   auto ran = hlod::runPath((*session)->driver(), path, o, list, &job->cancel);
-  job->scene->rememberVTime(job->settings.render.width, job->settings.render.height,
-                            (*session)->selector().vTime());
+  job->scene->rememberTiming(job->settings.render.width, job->settings.render.height,
+                             (*session)->driver().timing());
   session->reset();  // on this thread, with its context current
   if (!ran) {
     job->setState(JobState::Failed, ran.message());
@@ -535,7 +633,7 @@ void JobManager::restoreAll() {
     // A job's folder without its record (written by an older server, or by one that died while
     // admitting it): nobody can reach it; it goes once it is as old as a finished job would.
     const std::string name = e.path().filename().string();
-    const bool jobName = name.size() == 9 && (name[0] == 'j' || name[0] == 'a') &&
+    const bool jobName = name.size() == 9 && (name[0] == 'j' || name[0] == 'a' || name[0] == 'e') &&
                          name.find_first_not_of("0123456789abcdef", 1) == std::string::npos;
     const auto written = fs::last_write_time(e.path(), e2);
     if (jobName && !e2 && limits_.keepDays > 0 &&

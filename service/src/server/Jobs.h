@@ -3,6 +3,8 @@
 // so that long jobs never hold up interactive frames), into the job's folder: JPEG frames, an
 // optional MP4, stats.json and stats.csv. Every frame's record is kept (a job has at most
 // --max-frames) for the event stream, which replays them to a client that joins late.
+// Studies (hlodr study) and 3D Tiles exports (hlodr export-3dtiles) are jobs too, of their own
+// kinds, on the same runners, records and expiry.
 //
 // A job's outputs are the user's data: each job keeps its record (job.json, its API object) in
 // its folder, written at every change of state, and a server started on the same jobs folder
@@ -12,6 +14,7 @@
 // (JobLimits): older than keepDays, or the oldest past maxBytes in all, or past keepFinished.
 #include <atomic>
 #include <condition_variable>
+#include <ctime>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -26,6 +29,7 @@
 #include "hlod/runtime/FrameDriver.h"
 #include "hlod/runtime/FrameStats.h"
 #include "server/ApiTypes.h"
+#include "server/FileList.h"
 #include "server/Metrics.h"
 #include "server/RenderWorker.h"
 #include "server/SceneRegistry.h"
@@ -56,14 +60,15 @@ const char* jobStateName(JobState s);
 
 class Job {
  public:
-  std::string kind = "path";  // "path" or "study"
+  std::string kind = "path";  // "path", "study" or "export"
   std::string id;
   std::shared_ptr<Scene> scene;
   JobSettings settings;
   std::string createdAt;
   std::filesystem::path dir;
   std::uint64_t framesTotal = 0;
-  std::uint64_t sequence = 0;  // the order jobs were made in, across restarts
+  std::uint64_t sequence = 0;       // the order jobs were made in, across restarts
+  std::time_t createdTime() const;  // createdAt in seconds since 1970 (0: unreadable)
 
   JobState state() const;
   bool finished() const;
@@ -100,6 +105,14 @@ class Job {
   // Writes the record (job.json) now: the runner calls it as the job's state changes.
   void saveRecord() const;
 
+  // Exports: the tileset's folder, and its files as listed once the export is done (a restored
+  // job reads its list back from the folder); null while there is none.
+  std::filesystem::path tilesDir() const { return dir / "tiles"; }
+  std::shared_ptr<const FileList> tileFiles() const;
+  // The runner's side: what the exporter reported (for the job object) and the files it wrote,
+  // kept beside them (tiles-list.json) for a server that restores the job.
+  hlod::Status setExported(nlohmann::json result, FileList files);
+
  private:
   nlohmann::json jsonLocked() const;  // json(), with mutex_ held
   mutable std::mutex mutex_;
@@ -111,6 +124,9 @@ class Job {
   double progress_ = 0.0;
   std::string doing_;
   std::atomic<bool> videoReady_{false};
+  nlohmann::json exported_;  // an export's report, once done
+  mutable std::mutex filesMutex_;
+  mutable std::shared_ptr<const FileList> tileFiles_;
   // A restored job: its API object as recorded (the scene it ran may be gone), and the stats
   // files it wrote.
   std::optional<nlohmann::json> recorded_;
@@ -129,6 +145,9 @@ class JobManager {
   // An accuracy study of the scene along the path (hlodr study), as a job of kind "study".
   ApiResult<nlohmann::json> submitStudy(const std::shared_ptr<Scene>& scene, JobSettings path,
                                         StudyOptions study);
+  // The scene's store as an OGC 3D Tiles 1.1 tileset (hlodr export-3dtiles) in the job's folder,
+  // as a job of kind "export".
+  ApiResult<nlohmann::json> submitExport(const std::shared_ptr<Scene>& scene);
   std::vector<std::shared_ptr<Job>> list() const;  // newest first
   std::shared_ptr<Job> find(const std::string& id) const;
   // Cancels a queued or running job (true); removes a finished one with its files (false).
@@ -144,6 +163,7 @@ class JobManager {
  private:
   void runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
                   renderer::GlContext& context);
+  static void runExportJob(Job& job);
   void restoreAll();
   // Gives the job its id and folder and publishes it; 429 past --max-jobs.
   ApiResult<std::shared_ptr<Job>> admitJob(std::shared_ptr<Job> job);

@@ -29,6 +29,20 @@ nlohmann::json vec(const glm::dvec3& v) {
 
 }  // namespace
 
+std::string sourceOf(const hlod::Skeleton& sk) {
+  // The store keeps no input format of its own: its builder's name and the CRS description its
+  // importer wrote say it (TilesetImport, BuildFromInputs, CityJsonFrame). An hlodr export read
+  // back keeps the store it came from, and so its source.
+  const std::string& crs = sk.crs.description;
+  if (sk.params.simplifier == hlod::kTilesetSimplifier || crs.starts_with("3D Tiles"))
+    return "3d-tiles";
+  if (crs.starts_with("city folder")) return "city";
+  if (crs.starts_with("EPSG:") || crs.starts_with("none declared")) return "cityjson";
+  if (crs.ends_with("inputs placed through ECEF in east-north-up metres at the first one's origin"))
+    return "inputs";
+  return "mesh";
+}
+
 nlohmann::json Scene::summary() const {
   const hlod::Skeleton& sk = store->skeleton();
   hlod::Aabb bounds;
@@ -46,6 +60,7 @@ nlohmann::json Scene::summary() const {
           {"levels", depth + 1},
           {"depth", depth},
           {"blocks", sk.blockRoots().size()},
+          {"source", sourceOf(sk)},
           {"triangles",
            {{"input", store->facts().inputTriangles}, {"hlod0", hlod0}, {"leaves", leaves}}},
           {"bounds", {{"min", vec(bounds.min)}, {"max", vec(bounds.max)}}},
@@ -83,16 +98,16 @@ nlohmann::json Scene::detail() const {
   return j;
 }
 
-double Scene::knownVTime(int width, int height) const {
+hlod::FrontTiming Scene::knownTiming(int width, int height) const {
   std::lock_guard lock(mutex_);
-  auto it = vTimes_.find({width, height});
-  return it == vTimes_.end() ? 0.0 : it->second;
+  auto it = timings_.find({width, height});
+  return it == timings_.end() ? hlod::FrontTiming{} : it->second;
 }
 
-void Scene::rememberVTime(int width, int height, double vTime) {
-  if (!(vTime > 0.0)) return;
+void Scene::rememberTiming(int width, int height, const hlod::FrontTiming& timing) {
+  if (!(timing.vTime > 0.0)) return;
   std::lock_guard lock(mutex_);
-  vTimes_[{width, height}] = vTime;
+  timings_[{width, height}] = timing;
 }
 
 SceneRegistry::SceneRegistry(fs::path dataDir, std::uint64_t cacheCapBytes)

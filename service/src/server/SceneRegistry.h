@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hlod/runtime/Camera.h"
+#include "hlod/runtime/FrameDriver.h"
 #include "hlod/runtime/NodeCache.h"
 #include "hlod/scene/SceneFile.h"
 #include "hlod/store/NodeStore.h"
@@ -33,14 +34,21 @@ struct Scene {
   nlohmann::json summary() const;  // for GET /api/scenes
   nlohmann::json detail() const;   // for GET /api/scenes/{id}
 
-  // v_time of the last session at a frame size: a new session starts from it (the cold start).
-  double knownVTime(int width, int height) const;
-  void rememberVTime(int width, int height, double vTime);
+  // The timing of the last session at a frame size: a new session starts from it (the cold
+  // start). vTime 0 where none is known.
+  hlod::FrontTiming knownTiming(int width, int height) const;
+  void rememberTiming(int width, int height, const hlod::FrontTiming& timing);
 
  private:
   mutable std::mutex mutex_;
-  std::map<std::pair<int, int>, double> vTimes_;
+  std::map<std::pair<int, int>, hlod::FrontTiming> timings_;
 };
+
+// Where a store came from, as it records it: "3d-tiles" (a tileset imported by `hlodr build
+// TILESET.json`), "city" (a city folder), "cityjson", "inputs" (several inputs placed on the
+// globe together) or "mesh" (a model file: OBJ, PLY, OFF, STL, glTF; also a store built before
+// its CRS was recorded).
+std::string sourceOf(const hlod::Skeleton& sk);
 
 class SceneRegistry {
  public:

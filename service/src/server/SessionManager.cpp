@@ -37,7 +37,9 @@ hlod::Result<std::unique_ptr<Session>> openSession(Scene& scene, const RenderSet
   o.effects = settings.effects;
   o.cache = cache;
   o.cacheStore = scene.cacheStore;
-  o.knownVTime = scene.knownVTime(settings.width, settings.height);
+  const hlod::FrontTiming known = scene.knownTiming(settings.width, settings.height);
+  o.knownVTime = known.vTime;
+  o.knownFixedMs = known.fixedMs;
   o.recentFrames = 300;
   return Session::create(scene.store, o, context);
 }
@@ -207,8 +209,8 @@ ApiResult<FrameAnswer> SessionManager::draw(Session& session, Scene& scene,
     return ApiError{500, "internal", "render failed: " + rec.message()};
   }
   a.record = *rec;
-  scene.rememberVTime(session.options().width, session.options().height,
-                      session.selector().vTime());
+  scene.rememberTiming(session.options().width, session.options().height,
+                       session.driver().timing());
   auto t = Clock::now();
   const hlod::Image pixels = session.readback();
   a.readbackMs = msSince(t);

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <vector>
 
 #include "hlod/metrics/ImageMetrics.h"
 #include "renderer/ImageEncoder.h"
@@ -15,6 +16,14 @@ namespace fs = std::filesystem;
 using namespace hlod::study;
 
 namespace {
+
+// Frames a budgeted selector may take to come to rest at a studied camera (settled runs).
+constexpr int kSettleFrames = 16;
+// Frames drawn at a studied camera once it is at rest, in settled runs, by every selector
+// alike: the frame time is their median. One draw's time on a shared machine moves by 10-20%,
+// and the first frame after the metrics of the last camera was not timed like a frame after
+// frames (Lakhia's, after its settling frames).
+constexpr int kTimedFrames = 3;
 
 // The studied frames: `count` path frames spread evenly from the first to the last.
 std::vector<std::uint64_t> studiedFrames(std::uint64_t total, std::size_t count) {
@@ -133,16 +142,17 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   stripAt.erase(std::unique(stripAt.begin(), stripAt.end()), stripAt.end());
   std::map<std::pair<std::size_t, double>, Measured> stripCells;  // (studied index, budget)
 
-  // Each run starts from the v_time the run before left, as the server's sessions do (only the
+  // Each run starts from the timing the run before left, as the server's sessions do (only the
   // first measures one: see FrameDriver::start).
-  double knownVTime = 0.0;
+  hlod::FrontTiming known;
   for (const StudyConfig& c : configs) {
     SessionOptions so = base;
     so.selectorParams = o.selectorParams;
     so.selector = c.selector;
     so.budgetMs = c.budgetMs;
     so.selectorParams.ssePixels = c.ssePx > 0.0 ? c.ssePx : so.selectorParams.ssePixels;
-    so.knownVTime = knownVTime;
+    so.knownVTime = known.vTime;
+    so.knownFixedMs = known.fixedMs;
     so.occlusion = o.occlusion;
     auto s = Session::create(source, so, gl);
     if (!s) return hlod::makeError(c.label() + ": " + s.message());
@@ -156,21 +166,42 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
       const bool studied = next < frames.size() && frames[next] == f;
       if (c.mode == hlod::FrameMode::Settled && !studied) continue;
       if (cancelled()) return hlod::makeError("cancelled");
+      // A frame of the run; an error names the run and the path frame.
+      auto render = [&](std::uint64_t frame) -> hlod::Result<hlod::FrameRecord> {
+        auto rec = (*s)->renderFrame(path.sampleFrame(frame, o.fps, aspect), c.mode);
+        if (!rec)
+          return hlod::makeError(c.label() + ", frame " + std::to_string(frame) + ": " +
+                                 rec.message());
+        return rec;
+      };
       if (c.mode == hlod::FrameMode::Settled && o.occlusion != hlod::OcclusionMode::Off)
         for (std::uint64_t w = f - std::min<std::uint64_t>(f, 2); w < f; ++w)
-          if (auto warm = (*s)->renderFrame(path.sampleFrame(w, o.fps, aspect), c.mode); !warm)
-            return hlod::makeError(c.label() + ", frame " + std::to_string(w) + ": " +
-                                   warm.message());
-      const hlod::CameraSample sample = path.sampleFrame(f, o.fps, aspect);
-      auto rec = (*s)->renderFrame(sample, c.mode);
-      if (!rec)
-        return hlod::makeError(c.label() + ", frame " + std::to_string(f) + ": " + rec.message());
+          if (auto warm = render(w); !warm) return warm.error();
+      // A budgeted selector's front follows its hysteresis, a step per frame: settled, it is
+      // the front it comes to rest on with the camera held still at the studied frame (until a
+      // frame toggles nothing, at most kSettleFrames), as SSE's is at once.
+      if (c.mode == hlod::FrameMode::Settled && (*s)->selector().budgeted())
+        for (int k = 0; k < kSettleFrames; ++k) {
+          auto still = render(f);
+          if (!still) return still.error();
+          if (still->upToggles + still->downToggles == 0) break;
+        }
+      auto rec = render(f);
+      if (!rec) return rec.error();
+      std::vector<double> frameMs = {rec->gpuMs};
+      for (int k = 1; c.mode == hlod::FrameMode::Settled && k < kTimedFrames; ++k) {
+        rec = render(f);
+        if (!rec) return rec.error();
+        frameMs.push_back(rec->gpuMs);
+      }
+      // The last frame's front, image and counts; the frames' median time.
+      std::nth_element(frameMs.begin(), frameMs.begin() + frameMs.size() / 2, frameMs.end());
       if (studied) {
         Measured m;
         FrameResult& r = m.result;
         r.frame = f;
         r.time = rec->time;
-        r.frameMs = rec->gpuMs;
+        r.frameMs = frameMs[frameMs.size() / 2];
         r.queryGpuMs = rec->queryGpuMs;
         r.triangles = rec->triangles;
         r.toggles = rec->upToggles + rec->downToggles;
@@ -191,6 +222,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
         for (float v : *fm) sum += v;
         r.flip = fm->empty() ? 0.0 : sum / double(fm->size());
         r.coverage = *cov;
+        const hlod::CameraSample sample = path.sampleFrame(f, o.fps, aspect);
         hlod::View view{sample.camera, sample.velocity, o.width, o.height};
         view.camera.aspect = aspect;
         const auto e = frontScreenError((*s)->skeleton(), view, (*s)->driver().lastFront());
@@ -210,7 +242,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
     if (const std::string failure = (*s)->loadFailure(); !failure.empty())
       return hlod::makeError(c.label() + ": " + failure);
     run.summary = summarize(run.frames);
-    if ((*s)->selector().budgeted()) knownVTime = (*s)->selector().vTime();
+    if ((*s)->selector().budgeted()) known = (*s)->driver().timing();
     report.runs.push_back(std::move(run));
   }
   markParetoFront(report.runs);

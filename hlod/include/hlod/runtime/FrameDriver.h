@@ -156,6 +156,13 @@ struct FrameDriverOptions {
   MotionPredictorParams prediction;
 };
 
+// A machine's speed at drawing a store's fronts at one frame size: v_time (ms per unit of
+// cost) and the geometry pass's fixed part (FrameDriver::fixedMs).
+struct FrontTiming {
+  double vTime = 0.0;
+  double fixedMs = 0.0;
+};
+
 class FrameDriver {
  public:
   // The selector (and an optional second one with its own hysteresis state for look-ahead
@@ -170,7 +177,8 @@ class FrameDriver {
   // unless a v_time is given: one measured before (another session of the same store). With a
   // budgeted selector and no v_time given, one settled frame of that camera at the budget is
   // then drawn and timed (probeVTime): no frame of the session, it only sets v_time.
-  Status start(double knownVTime = 0.0);
+  // knownFixedMs: the fixed part of the geometry pass that session measured (fixedMs()).
+  Status start(double knownVTime = 0.0, double knownFixedMs = 0.0);
 
   // One frame for `sample` (time = path time). lookahead: a camera further along a known path
   // whose selection goes to the loader's prefetch (nullptr: none).
@@ -193,6 +201,13 @@ class FrameDriver {
   // The v_time start() measured (0 before start, or when it was given): the probe's where
   // there was one, else hlod_0's.
   double measuredVTime() const { return measuredVTime_; }
+  // The part of a geometry pass that no front changes (clearing, the finish, filling the pixels
+  // the model covers), reserved from the budget and kept out of v_time: an empty front's time,
+  // or where start() probed, hlod_0's time less what its cost accounts for at the probe's
+  // v_time (see probeVTime).
+  double fixedMs() const { return fixedMs_; }
+  // What a later session of the same store and frame size can start from (start's arguments).
+  FrontTiming timing() const { return {selector_->vTime(), fixedMs_}; }
   // The occlusion culling state (its counters are the last frame's).
   const OcclusionCulling& occlusion() const { return occlusion_; }
 
@@ -209,7 +224,13 @@ class FrameDriver {
   // L_O did not arrive in time (the frame is then drawn coarser as before).
   Result<std::optional<DrawReport>> drawWhileLoading(const View& view, const OcclusionPlan* plan,
                                                      FrameRecord& rec);
-  Status probeVTime(const Camera& camera);
+  struct TimedFront {
+    double cost = 0.0;        // the selector's estimate, in units of cost
+    double geometryMs = 0.0;  // its geometry pass, median of three
+  };
+  Status probeVTime(const Camera& camera, const TimedFront& roots);
+  // The front a budgeted selector at `vTime` picks for `camera`, loaded and timed.
+  Result<TimedFront> probeFront(const Camera& camera, double vTime);
   // Draws `front` once to pay its first use, then three times: the draw of median geometry time.
   Result<DrawSplit> timeDraws(const Camera& camera, std::span<const std::uint32_t> front,
                               std::span<const NodeDraw> draws);
@@ -229,6 +250,9 @@ class FrameDriver {
   std::uint64_t frames_ = 0;
   double measuredVTime_ = 0.0;
   double screenPassMs_ = 0.0;  // the last frame's per-pixel passes (DrawSplit::screenMs)
+  double fixedMs_ = 0.0;       // see fixedMs()
+  // A draw's geometry pass less the fixed cost: what v_time learns from.
+  double frontMs(double geometryMs) const;
   // The shadow pass's ms per geometry-pass ms (median of three, low-passed as v_time is). Before
   // its first measurement the shadow pass counts as drawing the front again: a share of 1.
   VTimeFeedback shadowShare_{1.0, 0.3, 4.0, 2.0};

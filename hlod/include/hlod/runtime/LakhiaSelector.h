@@ -16,23 +16,27 @@ struct NodePriority {
   double vis = 1.0;          // 1 + c_vis * frustumVis
   double foreshorten = 1.0;  // 1 + facing * c_fore, at least 0
   double distance = 1.0;     // max(c_minDistance, distance from the look-ahead camera to the box)
-  double benefit = 0.0;      // staticBenefit * vis * foreshorten / distance^2
-  double priority = 0.0;     // benefit / max(cost, c_minCost)
-  bool visible = false;      // the box touches the view frustum
+  // staticBenefit * vis * foreshorten / distance^2; or, given the error the node removes,
+  // that error in pixels at the distance * vis * foreshorten (LakhiaParams::c_errorBenefit)
+  double benefit = 0.0;
+  double priority = 0.0;  // benefit / max(cost, c_minCost)
+  bool visible = false;   // the box touches the view frustum
 };
 
 // Per-frame quantities shared by every node's priority (frustum, look-ahead position).
 class PriorityModel {
  public:
   PriorityModel(const View& view, const LakhiaParams& params);
-  NodePriority evaluate(const NodeInfo& node) const;
+  // errorRemoved > 0: the geometric error drawing the node removes, its benefit's measure.
+  NodePriority evaluate(const NodeInfo& node, double errorRemoved = 0.0) const;
   const Frustum& frustum() const { return frustum_; }
 
  private:
   const LakhiaParams& params_;
   Frustum frustum_;
-  glm::dvec3 lookAhead_;  // camera position + c_velocity * velocity
-  glm::dvec3 view_;       // the image plane normal: the camera's forward direction
+  glm::dvec3 lookAhead_;     // camera position + c_velocity * velocity
+  glm::dvec3 view_;          // the image plane normal: the camera's forward direction
+  double pixelsPerUnitAt1_;  // pixels one world unit covers face-on at distance 1
 };
 
 class LakhiaSelector final : public Selector {
@@ -63,6 +67,12 @@ class LakhiaSelector final : public Selector {
   // (in steps of its range); its numTri otherwise.
   std::uint32_t trianglesBought(std::uint32_t n) const;
   static constexpr double kProgressiveSteps = 32.0;
+  // A node with children and no geometric error, in a store whose inner nodes carry errors (a
+  // 3D Tiles tile with geometricError 0): its children draw the same surface, so it is drawn
+  // as a leaf, as SSE and 3D Tiles viewers do.
+  bool exact(std::uint32_t n) const {
+    return errorsKnown_ && !(skeleton_.nodes[n].geometricError > 0.0);
+  }
 
   std::vector<double> hyst_;
   std::vector<double> timeSlice_;
@@ -73,7 +83,11 @@ class LakhiaSelector final : public Selector {
   std::vector<std::uint8_t> visible_;          // in the frustum, as of evaluatedFrame_
   std::vector<std::uint8_t> capped_;           // sliceSiblings scratch
   std::vector<std::uint32_t> slicedFrame_;     // frame a node's timeSlice_ was last set
-  double aimMs_ = 0.0;  // c_aim * the drawing's budget this frame: what the slices share
+  double aimMs_ = 0.0;         // c_aim * the drawing's budget this frame: what the slices share
+  bool errorsKnown_ = false;   // some node with children has a geometric error above 0
+  bool errorBenefit_ = false;  // benefits from errors (LakhiaParams::c_errorBenefit)
+  // The geometric error drawing node n removes where benefits come from errors, else 0.
+  double errorRemoved(std::uint32_t n) const;
 };
 
 }  // namespace hlod

@@ -176,6 +176,19 @@ struct LakhiaParams {
   // back into their parents until it fits the aim. Far outside the fill's band, so noise
   // never triggers it.
   double c_shed = 0.25;
+  // Benefit from geometric error (an addition; 1 on, 0 the paper's, -1 chosen by the store).
+  // Where the store records geometric errors (hlodr's builder and 3D Tiles do), a node's benefit
+  // is vis * foreshorten * the geometric error its drawing removes, projected in pixels at its
+  // distance: its own error, or its parent's where it has none (a leaf). Eq. 2's static benefit
+  // stands in for accuracy with the triangle count, and eq. 3 divides it by distance^2: on a
+  // terrain whose errors vary 30-40x within a level that spent the budget near the camera on
+  // flat tiles that a screen-space error leaves coarse (docs/results.md, "3D Tiles"). -1, the
+  // default, turns it on for a store imported from a tileset that hlodr did not write (its
+  // errors are what the tileset's author steers refinement by) and leaves the paper's benefit
+  // on hlodr's own stores: their errors are geometric distances that do not see a baked
+  // texture's blur, and at street level in a city with cell nodes the error benefit drew the
+  // nearest facades coarse and a cell far off instead.
+  double c_errorBenefit = -1.0;
 };
 
 struct SelectorParams {

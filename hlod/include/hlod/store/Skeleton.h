@@ -57,11 +57,15 @@ struct NodeInfo {
   bool isCell() const { return block == kCellBlock; }
 };
 
+// BuildParams::simplifier of a store imported from a tileset hlodr did not write: its levels
+// and errors are the tileset author's.
+inline constexpr const char* kTilesetSimplifier = "3d-tiles";
+
 struct BuildParams {
   double levelFactor = 3.0;      // C_levelFactor
   std::uint32_t desiredTri = 0;  // C_desiredTri
   double cTex = 0.0;             // c_tex of eq. 1
-  std::string simplifier;        // "meshopt" or "openmesh"
+  std::string simplifier;        // "meshopt" or "openmesh", or kTilesetSimplifier
 };
 
 struct Skeleton {

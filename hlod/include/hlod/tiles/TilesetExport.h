@@ -42,6 +42,7 @@
 // the tile holds the node's whole triangles (drawn whole, as `--params progressive=0` draws).
 // Splats are no content (viewers would draw them besides the triangles): hlodr computes them
 // again from the triangles on import. Cell nodes are tiles like any other node.
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -57,6 +58,9 @@ struct TilesetExportOptions {
   // Textures as JPEG at this quality (1..100), else PNG (lossless, the default: an export read
   // back draws exactly what the store drew).
   int jpegQuality = 0;
+  // Checked before each node: once true, the export stops with an Error ("cancelled") and
+  // leaves nothing behind (a server's export job; the command line has none).
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct TilesetExportReport {

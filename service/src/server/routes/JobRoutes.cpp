@@ -1,5 +1,8 @@
 // /api/jobs: path jobs (submit, list, cancel or remove, frames, stats, video, event stream), and
-// the collection routes that studies share.
+// the collection routes that studies share. 3D Tiles exports are listed, read and removed here
+// too (routes/ExportRoutes.cpp has the rest of them).
+#include <algorithm>
+
 #include "server/ApiReply.h"
 #include "server/SceneChoice.h"
 #include "server/routes/Routes.h"
@@ -11,17 +14,18 @@ using httplib::Response;
 
 namespace {
 
-std::shared_ptr<Job> jobOfKind(ApiContext& api, const std::string& id, const std::string& kind) {
+std::shared_ptr<Job> jobOfKind(ApiContext& api, const std::string& id,
+                               const std::vector<std::string>& kinds) {
   auto job = api.jobs.find(id);
-  return job && job->kind == kind ? job : nullptr;
+  return job && std::find(kinds.begin(), kinds.end(), job->kind) != kinds.end() ? job : nullptr;
 }
 
 // The path job named by the route's first parameter; answered 400 or 404 when there is none.
 std::shared_ptr<Job> pathJobOf(ApiContext& api, const Request& req, Response& res) {
   auto id = pathParam(req, 1, "job id", res);
   if (!id) return nullptr;
-  auto job = jobOfKind(api, *id, "path");
-  if (!job) sendError(res, notFound("no job " + *id));
+  auto job = jobOfKind(api, *id, {"path"});
+  if (!job) sendError(res, notFound("no path job " + *id));
   return job;
 }
 
@@ -87,27 +91,27 @@ void eventStream(ApiContext& api, const std::shared_ptr<Job>& job, Response& res
 }  // namespace
 
 void installJobCollectionRoutes(httplib::Server& http, ApiContext& api,
-                                const std::string& collection, const std::string& kind,
-                                const std::string& noun) {
+                                const std::string& collection,
+                                const std::vector<std::string>& kinds, const std::string& noun) {
   const std::string idName = noun + " id";
-  http.Get("/api/" + collection, [&api, collection, kind](const Request&, Response& res) {
+  http.Get("/api/" + collection, [&api, collection, kinds](const Request&, Response& res) {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& j : api.jobs.list())
-      if (j->kind == kind) list.push_back(j->json());
+      if (std::find(kinds.begin(), kinds.end(), j->kind) != kinds.end()) list.push_back(j->json());
     sendJson(res, 200, {{collection, list}});
   });
   const std::string one = "/api/" + collection + "/([^/]+)";
-  http.Get(one, [&api, kind, noun, idName](const Request& req, Response& res) {
+  http.Get(one, [&api, kinds, noun, idName](const Request& req, Response& res) {
     auto id = pathParam(req, 1, idName.c_str(), res);
     if (!id) return;
-    auto job = jobOfKind(api, *id, kind);
+    auto job = jobOfKind(api, *id, kinds);
     if (!job) return sendError(res, notFound("no " + noun + " " + *id));
     sendJson(res, 200, job->json());
   });
-  http.Delete(one, [&api, kind, noun, idName](const Request& req, Response& res) {
+  http.Delete(one, [&api, kinds, noun, idName](const Request& req, Response& res) {
     auto id = pathParam(req, 1, idName.c_str(), res);
     if (!id) return;
-    if (!jobOfKind(api, *id, kind)) return sendError(res, notFound("no " + noun + " " + *id));
+    if (!jobOfKind(api, *id, kinds)) return sendError(res, notFound("no " + noun + " " + *id));
     auto r = api.jobs.cancelOrRemove(*id);
     if (!r) return sendError(res, r.error());
     if (*r) {
@@ -159,7 +163,7 @@ void installJobRoutes(httplib::Server& http, ApiContext& api) {
     sendJson(res, 202, *job);
   });
 
-  installJobCollectionRoutes(http, api, "jobs", "path", "job");
+  installJobCollectionRoutes(http, api, "jobs", {"path", "export"}, "job");
 
   http.Get(R"(/api/jobs/([^/]+)/frames/(\d{1,9}))", [&](const Request& req, Response& res) {
     auto job = pathJobOf(api, req, res);

@@ -56,7 +56,7 @@ void installStudyRoutes(httplib::Server& http, ApiContext& api) {
     sendJson(res, 202, *job);
   });
 
-  installJobCollectionRoutes(http, api, "studies", "study", "study");
+  installJobCollectionRoutes(http, api, "studies", {"study"}, "study");
 
   http.Get(R"(/api/studies/([^/]+)/report/([^/]+))", [&](const Request& req, Response& res) {
     auto id = pathParam(req, 1, "study id", res);
