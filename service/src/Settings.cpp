@@ -121,11 +121,12 @@ std::vector<Setting> makeTable() {
       row("pathKind", "kind", "path.kind", K::Choice, 0, 0, "", "K",
           "a path generated for the store: walk-fly (a street-level walk rising into a "
           "fly-over, 35 s), drive (a loop along streets at 1.5 m), orbit (a circle around the "
-          "up axis, framing the model, 30 s), fly-around (a loop around the model's box, outside "
+          "up axis, framing the model, 30 s), facade (a slow walk at eye height past one street's "
+          "facades, looking at them, 10 s), fly-around (a loop around the model's box, outside "
           "it, 40 s) or catwalk (a walk at eye height along a CAD scene's catwalks, found in its "
           "full-detail geometry, 40 s at most; docs/objects.md)",
           "path, study, POST /api/jobs, /api/studies",
-          {"walk-fly", "drive", "orbit", "fly-around", "catwalk"}),
+          {"walk-fly", "drive", "orbit", "facade", "fly-around", "catwalk"}),
       row("duration", "duration", "path.duration", K::Number, 1, 1e6, "", "S",
           "stretch or shrink a generated path to S seconds (default: the kind's own length)",
           "path, POST /api/jobs, /api/studies"),

@@ -22,7 +22,7 @@ const char* const kStudyUsage =
     "loaded. Writes DIR/study.json, study.csv, pareto.svg, flip.svg, path.svg, db-per-ms.svg,\n"
     "strip-N.png and index.html (open it in a browser, offline).\n"
     "\n"
-    "KIND: a generated path, as `hlodr path --kind` makes it (walk-fly, drive, orbit,\n"
+    "KIND: a generated path, as `hlodr path --kind` makes it (walk-fly, drive, orbit, facade,\n"
     "fly-around, catwalk).\n"
     "\n"
     "options:\n"
