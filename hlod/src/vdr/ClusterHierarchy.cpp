@@ -6,6 +6,7 @@
 #include <cassert>
 #include <deque>
 #include <limits>
+#include <queue>
 
 #include "hlod/vdr/ActiveMesh.h"
 
@@ -34,6 +35,7 @@ class Clustering {
       if (out.errorFloor == std::numeric_limits<double>::max()) out.errorFloor = 1.0;
     }
     out.clusterOf.assign(h.vertexCount(), kNone);
+    queuedIn_.assign(h.vertexCount(), kNone);
   }
 
   void run() {
@@ -69,39 +71,45 @@ class Clustering {
   bool before(std::uint32_t a, std::uint32_t b) const {
     return h_.error[a] != h_.error[b] ? h_.error[a] < h_.error[b] : a < b;
   }
-  void pushVertex(std::uint32_t c, std::uint32_t v) {
+  // fresh: v was not queued before (partition moves queued vertices: they are in latest_).
+  void pushVertex(std::uint32_t c, std::uint32_t v, bool fresh = true) {
+    queuedIn_[v] = c;
+    if (fresh && !h_.isLeaf(v)) latest_.push(v);
     queues_[c].push_back(v);
     std::push_heap(queues_[c].begin(), queues_[c].end(),
                    [&](std::uint32_t a, std::uint32_t b) { return before(a, b); });
   }
   void popTop(std::uint32_t c) {
+    queuedIn_[queues_[c].front()] = kNone;
     std::pop_heap(queues_[c].begin(), queues_[c].end(),
                   [&](std::uint32_t a, std::uint32_t b) { return before(a, b); });
     queues_[c].pop_back();
   }
 
-  std::uint32_t newCluster(std::uint32_t parent, std::vector<std::uint32_t> queue) {
+  std::uint32_t newCluster(std::uint32_t parent, std::vector<std::uint32_t> queue,
+                           bool fresh = true) {
     const auto c = std::uint32_t(out_.clusters.size());
     Cluster k;
     k.parent = parent;
     k.depth = parent == kNone ? 0 : out_.clusters[parent].depth + 1;
     out_.clusters.push_back(k);
     queues_.emplace_back();
-    for (std::uint32_t v : queue) pushVertex(c, v);
+    for (std::uint32_t v : queue) pushVertex(c, v, fresh);
     clusterQueue_.push_back(c);
     return c;
   }
 
   double floored(float e) const { return std::max(double(e), out_.errorFloor); }
 
-  // Steps 4 to 6 for v, taken from C's queue: false when C split instead.
-  bool add(std::uint32_t c, std::uint32_t v) {
+  // Steps 4 to 6 for v, taken from C's queue: false when C split instead. unchecked: split v
+  // without the neighbourhood test (unblock()).
+  bool add(std::uint32_t c, std::uint32_t v, bool unchecked = false) {
     Cluster& k = out_.clusters[c];
     const float e = h_.error[v];
     if (k.vertexCount > 0) {
       const double hi = floored(std::max(k.maxError, e)), lo = floored(std::min(k.minError, e));
       if (hi / lo > o_.maxErrorRatio || k.vertexCount + 1 > o_.maxVertices) {
-        pushVertex(c, v);
+        pushVertex(c, v, false);
         partition(c);
         return false;
       }
@@ -113,7 +121,12 @@ class Clustering {
     ++k.vertexCount;
     out_.clusterOf[v] = c;
     if (!h_.isLeaf(v)) {
-      mesh_.split(v);
+      if (unchecked) {
+        mesh_.splitUnchecked(v);
+        ++out_.uncheckedSplits;
+      } else {
+        mesh_.split(v);
+      }
       pushVertex(c, h_.kept(v));
       pushVertex(c, h_.removed(v));
     }
@@ -139,28 +152,31 @@ class Clustering {
     std::vector<std::uint32_t> left(q.begin(), q.begin() + half), right(q.begin() + half, q.end());
     // (newCluster grows the clusters: no reference into them is held across it.)
     if (left.empty()) {
-      const std::uint32_t only = newCluster(c, std::move(right));
+      const std::uint32_t only = newCluster(c, std::move(right), false);
       out_.clusters[c].children[0] = only;
     } else {
-      const std::uint32_t l = newCluster(c, std::move(left));
-      const std::uint32_t r = newCluster(c, std::move(right));
+      const std::uint32_t l = newCluster(c, std::move(left), false);
+      const std::uint32_t r = newCluster(c, std::move(right), false);
       out_.clusters[c].children = {l, r};
     }
   }
 
-  // Every queued cluster waits on a split: add the front vertex made last in the build.
+  // Every queued cluster waits on a split: add the queued vertex made last in the build (the top
+  // of latest_, whose placed vertices are dropped on the way). Its split is safe in the build's
+  // reverse order, but a split taken earlier out of that order may have left a face around it
+  // finer than the build had it, which no later split undoes: it is then split without the test,
+  // or the clustering would never end.
   void unblock() {
-    std::uint32_t best = kNone, owner = kNone;
-    for (std::uint32_t c : clusterQueue_)
-      for (std::uint32_t v : queues_[c])
-        if (!h_.isLeaf(v) && (best == kNone || v > best)) best = v, owner = c;
-    assert(best != kNone && mesh_.canSplit(best));
-    if (best == kNone || !mesh_.canSplit(best)) return;
+    while (!latest_.empty() && queuedIn_[latest_.top()] == kNone) latest_.pop();
+    assert(!latest_.empty());
+    if (latest_.empty()) return;
+    const std::uint32_t best = latest_.top(), owner = queuedIn_[best];
     auto& q = queues_[owner];
     q.erase(std::find(q.begin(), q.end(), best));
+    queuedIn_[best] = kNone;
     std::make_heap(q.begin(), q.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return before(a, b); });
-    if (!add(owner, best)) std::erase(clusterQueue_, owner);
+    if (!add(owner, best, !mesh_.canSplit(best))) std::erase(clusterQueue_, owner);
   }
 
   void finish() {
@@ -173,6 +189,8 @@ class Clustering {
   ActiveMesh mesh_;
   std::vector<std::vector<std::uint32_t>> queues_;  // per cluster: its vertex priority queue
   std::deque<std::uint32_t> clusterQueue_;
+  std::vector<std::uint32_t> queuedIn_;      // per vertex: the cluster whose queue holds it
+  std::priority_queue<std::uint32_t> latest_;  // queued inner vertices, made last first
 };
 
 }  // namespace

@@ -25,8 +25,10 @@
 //  - the paper notes that a split never waits on its own queue when errors shrink with every
 //    split, which a local Hausdorff distance does not promise. When every cluster in the queue
 //    has been tried once in a row without adding a vertex, the front vertex made last in the
-//    build (whose split is always safe: it is the build's order reversed) is added to its
-//    cluster out of error order.
+//    build is added to its cluster out of error order. Its split is safe in the build's order
+//    reversed, unless a split taken earlier out of that order left a face around it finer than
+//    the build had it (no later split undoes that): it is then split without the test, or the
+//    clustering would never end (head.stl did not).
 #include <cstdint>
 #include <vector>
 
@@ -53,6 +55,7 @@ struct ClusterHierarchy {
   std::vector<Cluster> clusters;         // cluster 0 is the first one (it holds the roots' top)
   std::vector<std::uint32_t> clusterOf;  // per vertex of the hierarchy
   double errorFloor = 0.0;               // what the error ratio counts a smaller error as
+  std::uint32_t uncheckedSplits = 0;     // splits the build took without the test (not stored)
 
   // Yoon et al. 2003: "The error ratio is defined as the ratio of the maximum error value
   // associated with a vertex in the cluster to that of the minimum. The error range is the
