@@ -10,6 +10,7 @@
 
 #include "cmd/Commands.h"
 #include "cmd/HierarchyInfo.h"
+#include "cmd/VdrInfo.h"
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/geodesy/GeoReference.h"
 #include "hlod/import/Import.h"
@@ -36,6 +37,9 @@ const char* const kInfoUsage =
     "Both print the hierarchy's figures for the criteria of Manocha sec. 2.1.1 (localisation,\n"
     "depth and balance, sibling-box overlap, object sizes; docs/objects.md): a store's tree, or\n"
     "for a model its object hierarchy beside its plane cuts, as `hlodr build` makes them.\n"
+    "A store built with --vdr also gets its view-dependent section's cluster hierarchy (Manocha\n"
+    "sec. 3.1): clusters per depth with their error ratios and error ranges (Yoon et al. 2003;\n"
+    "--json lists every cluster's).\n"
     "\n"
     "options:\n"
     "  --json          machine-readable output\n"
@@ -317,6 +321,12 @@ int runInfo(const Argv& argv) {
       j["levels"].push_back(level);
     }
     j["hierarchy"] = storeHierarchyInfo(s, false);
+    auto vdr = vdrInfo(**store, false);
+    if (!vdr) {
+      std::fprintf(stderr, "hlodr info: %s\n", vdr.message().c_str());
+      return 1;
+    }
+    j["vdr"] = std::move(*vdr);
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -375,6 +385,10 @@ int runInfo(const Argv& argv) {
   if (cells.nodes > 0) row("cells", cells);
   for (const auto& [d, l] : levels) row(std::to_string(d), l);
   storeHierarchyInfo(s, true);
+  if (auto vdr = vdrInfo(**store, true); !vdr) {
+    std::fprintf(stderr, "hlodr info: %s\n", vdr.message().c_str());
+    return 1;
+  }
   return 0;
 }
 
