@@ -42,7 +42,11 @@ hlod::Result<hlod::DrawReport> VdrNodeRenderer::draw(const hlod::Camera& camera,
     hlod::vdr::ArrayForm form{};
     auto mesh =
         std::make_shared<const hlod::LocalMesh>(runtime_.clusterArrays(c, minActiveRatio_, &form));
-    if (uploaded_[c] == kNoCopy) held_.push_back(c);
+    // The residency keeps a node's first copy: the old one goes first.
+    if (uploaded_[c] == kNoCopy)
+      held_.push_back(c);
+    else
+      inner_->evict(c);
     inner_->queueUpload(c, std::move(mesh));
     uploaded_[c] = version;
     ++counters_.rebuilt;
