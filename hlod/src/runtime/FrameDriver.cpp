@@ -189,8 +189,42 @@ Status FrameDriver::start(double knownVTime, double knownFixedMs) {
   }
   if (options_.loaderThread) loader_.start();
   if (!known && !bounds_.empty() && measuredVTime_ > 0.0 && selector_->budgeted())
-    return probeVTime(cam, roots);
+    return selector_->remakeable() ? probeVTime(cam, roots) : probeOwnVTime(cam);
   return Ok{};
+}
+
+Status FrameDriver::probeOwnVTime(const Camera& camera) {
+  CameraSample sample;
+  sample.camera = camera;
+  const auto settleTimeout = options_.settleTimeout;
+  options_.settleTimeout = std::min(settleTimeout, std::chrono::milliseconds(1000));
+  Status status = Ok{};
+  for (int i = 0; i < 4; ++i) {
+    auto frame = renderFrame(sample, FrameMode::Settled);
+    if (!frame) {
+      status = frame.error();
+      break;
+    }
+    auto timed = timeDraws(camera, lastFront_, lastDraws_);
+    if (!timed) {
+      status = timed.error();
+      break;
+    }
+    const double cost = selector_->lastEstimatedCost();
+    if (!(timed->geometryMs > 0.0 && cost > 0.0)) break;
+    const double v = frontMs(timed->geometryMs) / cost;
+    const bool steady = std::abs(v / measuredVTime_ - 1.0) < 0.1;
+    measuredVTime_ = v;
+    selector_->setVTime(v);
+    if (prefetchSelector_) prefetchSelector_->setVTime(v);
+    if (steady) break;
+  }
+  options_.settleTimeout = settleTimeout;
+  frames_ = 0;
+  recent_.clear();
+  lastFront_.clear();
+  lastDraws_.clear();
+  return status;
 }
 
 Result<FrameDriver::TimedFront> FrameDriver::probeFront(const Camera& camera, double vTime) {

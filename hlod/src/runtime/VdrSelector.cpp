@@ -37,7 +37,6 @@ Selection VdrSelector::select(const View& view, const Residency& /*everything is
   s.activeClusters = runtime_.activeClusterCount();
   s.errorBoundPx = control_.bound();
   runtime_.addRefineMs(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-  selected_ = true;
   return s;
 }
 

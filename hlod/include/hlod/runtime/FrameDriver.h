@@ -176,7 +176,8 @@ class FrameDriver {
   // start from (so a session's first frame is budget-bound, not drawn at an arbitrary v_time),
   // unless a v_time is given: one measured before (another session of the same store). With a
   // budgeted selector and no v_time given, one settled frame of that camera at the budget is
-  // then drawn and timed (probeVTime): no frame of the session, it only sets v_time.
+  // then drawn and timed (probeVTime; for a selector that is not remakeable(), its own frames:
+  // probeOwnVTime): no frame of the session, it only sets v_time.
   // knownFixedMs: the fixed part of the geometry pass that session measured (fixedMs()).
   Status start(double knownVTime = 0.0, double knownFixedMs = 0.0);
 
@@ -229,6 +230,10 @@ class FrameDriver {
     double geometryMs = 0.0;  // its geometry pass, median of three
   };
   Status probeVTime(const Camera& camera, const TimedFront& roots);
+  // For a selector that is not remakeable(): its own settled frames at `camera`, each timed and
+  // setting v_time for the next, until v_time moves by less than 10% (at most 4); then
+  // forgotten as frames.
+  Status probeOwnVTime(const Camera& camera);
   // The front a budgeted selector at `vTime` picks for `camera`, loaded and timed.
   Result<TimedFront> probeFront(const Camera& camera, double vTime);
   // Draws `front` once to pay its first use, then three times: the draw of median geometry time.

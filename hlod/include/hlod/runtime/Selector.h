@@ -262,6 +262,9 @@ class Selector {
   virtual Selection select(const View& view, const Residency& residency) = 0;
   // Whether the front depends on the budget and v_time (not so for a fixed error or `full`).
   virtual bool budgeted() const { return false; }
+  // Whether makeSelector(name()) makes a fresh one like it (FrameDriver::start's probe draws its
+  // front with one); not so for a selector whose state is a runtime of its own.
+  virtual bool remakeable() const { return true; }
 
   // The measured time of the geometry pass of the frame drawn from the last selection (ms):
   // without the View::spentMs it was selected with and without the other passes that draw the

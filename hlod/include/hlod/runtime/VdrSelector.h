@@ -12,10 +12,8 @@
 // selector's skeleton. The refinement's CPU time is recorded in the runtime, and the renderer
 // (renderer::VdrNodeRenderer) counts it in the frame.
 //
-// budgeted() turns true after the first frame: FrameDriver::start measures a budgeted
-// selector's v_time with a probe frame drawn by a fresh selector made by name, and this one
-// cannot be made so (it holds the objects' refinement state); the bound control finds its
-// footing within the first frames instead.
+// It cannot be made again by name (it holds the objects' refinement state): FrameDriver::start
+// measures its v_time with frames of its own at the default view instead of a fresh selector's.
 #include "hlod/runtime/Selector.h"
 #include "hlod/vdr/ErrorBoundControl.h"
 #include "hlod/vdr/VdrRuntime.h"
@@ -34,7 +32,8 @@ class VdrSelector final : public Selector {
               const VdrSelectorParams& vdr = {});
   std::string_view name() const override { return "vdr"; }
   Selection select(const View& view, const Residency& residency) override;
-  bool budgeted() const override { return selected_; }
+  bool budgeted() const override { return true; }
+  bool remakeable() const override { return false; }
 
   double boundPx() const { return control_.bound(); }
 
@@ -42,7 +41,6 @@ class VdrSelector final : public Selector {
   vdr::VdrRuntime& runtime_;
   VdrSelectorParams vdr_;
   vdr::ErrorBoundControl control_;
-  bool selected_ = false;
 };
 
 }  // namespace hlod
