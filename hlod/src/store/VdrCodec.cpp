@@ -13,19 +13,19 @@ namespace {
 
 using vdr::kNone;
 
-constexpr std::uint32_t kRecordMagic = 0x44564c48u;  // "HLVD"
-constexpr char kIndexMagic[8] = {'H', 'L', 'O', 'D', 'V', 'D', 'R', 'I'};
-constexpr char kTrailerMagic[8] = {'H', 'L', 'O', 'D', 'V', 'D', 'R', '0'};
-constexpr std::uint32_t kFlagTexCoords = 1u, kFlagOneSided = 2u, kFlagTexture = 4u;
+constexpr std::uint32_t kVdrRecordMagic = 0x44564c48u;  // "HLVD"
+constexpr char kVdrIndexMagic[8] = {'H', 'L', 'O', 'D', 'V', 'D', 'R', 'I'};
+constexpr char kVdrTrailerMagic[8] = {'H', 'L', 'O', 'D', 'V', 'D', 'R', '0'};
+constexpr std::uint32_t kVdrFlagTexCoords = 1u, kVdrFlagOneSided = 2u, kVdrFlagTexture = 4u;
 // Generous limits that keep every size computation far from overflow.
-constexpr std::uint64_t kMaxLeaves = 1ull << 27;
-constexpr std::uint64_t kMaxFaces = 1ull << 28;
-constexpr std::uint64_t kMaxStoredFaces = 1ull << 30;
-constexpr std::uint32_t kMaxTextureSide = 1u << 15;
-constexpr std::uint64_t kHeaderBytes = 11 * 4 + 3 * 8 + 4 * 4 + 8;
-constexpr std::uint64_t kClusterBytes = 5 * 4 + 2 * 4;
-constexpr std::uint64_t kEntryBytes = 4 + 3 * 8 + 4 + 6 * 8 + 3 * 4;
-constexpr std::uint64_t kTrailerBytes = 8 + 8 + 8;
+constexpr std::uint64_t kVdrMaxLeaves = 1ull << 27;
+constexpr std::uint64_t kVdrMaxFaces = 1ull << 28;
+constexpr std::uint64_t kVdrMaxStoredFaces = 1ull << 30;
+constexpr std::uint32_t kVdrMaxTextureSide = 1u << 15;
+constexpr std::uint64_t kVdrHeaderBytes = 11 * 4 + 3 * 8 + 4 * 4 + 8;
+constexpr std::uint64_t kVdrClusterBytes = 5 * 4 + 2 * 4;
+constexpr std::uint64_t kVdrEntryBytes = 4 + 3 * 8 + 4 + 6 * 8 + 3 * 4;
+constexpr std::uint64_t kVdrTrailerBytes = 8 + 8 + 8;
 
 template <class T>
 bool finite(const T* v, std::size_t n) {
@@ -47,9 +47,9 @@ std::vector<std::byte> encodeVdrObject(const vdr::VdrObject& o) {
       uv && o.texture && !o.texture->empty() &&
       o.texture->pixels.size() == std::size_t(o.texture->width) * o.texture->height * 4;
   store::ByteWriter w;
-  w.put(kRecordMagic);
+  w.put(kVdrRecordMagic);
   w.put(kVdrRecordVersion);
-  w.put((uv ? kFlagTexCoords : 0u) | (o.oneSided ? kFlagOneSided : 0u) | (tex ? kFlagTexture : 0u));
+  w.put((uv ? kVdrFlagTexCoords : 0u) | (o.oneSided ? kVdrFlagOneSided : 0u) | (tex ? kVdrFlagTexture : 0u));
   for (std::uint32_t n : {L, V, F, W, S, K}) w.put(n);
   w.put(std::uint32_t(tex ? o.texture->width : 0));
   w.put(std::uint32_t(tex ? o.texture->height : 0));
@@ -93,27 +93,27 @@ Result<vdr::VdrObject> decodeVdrObject(std::span<const std::byte> bytes) {
       !r.get(W) || !r.get(S) || !r.get(K) || !r.get(tw) || !r.get(th) || !r.get(o.centre) ||
       !r.get(o.baseColor) || !r.get(floor))
     return makeError("view-dependent record truncated in its header");
-  if (magic != kRecordMagic) return makeError("view-dependent record has a bad magic number");
+  if (magic != kVdrRecordMagic) return makeError("view-dependent record has a bad magic number");
   if (version != kVdrRecordVersion)
     return makeError("view-dependent record version " + std::to_string(version) +
                      " is not supported (rebuild the store with --vdr)");
-  const bool uv = flags & kFlagTexCoords, tex = flags & kFlagTexture;
-  if ((flags & ~(kFlagTexCoords | kFlagOneSided | kFlagTexture)) || L == 0 || L > kMaxLeaves ||
-      V < L || V - L >= L || F == 0 || F > kMaxFaces || W < L || W > 2 * kMaxLeaves ||
-      S > kMaxStoredFaces || K == 0 || K > V || tw > kMaxTextureSide || th > kMaxTextureSide ||
+  const bool uv = flags & kVdrFlagTexCoords, tex = flags & kVdrFlagTexture;
+  if ((flags & ~(kVdrFlagTexCoords | kVdrFlagOneSided | kVdrFlagTexture)) || L == 0 || L > kVdrMaxLeaves ||
+      V < L || V - L >= L || F == 0 || F > kVdrMaxFaces || W < L || W > 2 * kVdrMaxLeaves ||
+      S > kVdrMaxStoredFaces || K == 0 || K > V || tw > kVdrMaxTextureSide || th > kVdrMaxTextureSide ||
       (tw == 0) != (th == 0) || tex != (tw > 0) || (tex && !uv))
     return makeError("view-dependent record has impossible counts");
   const std::uint64_t I = V - L;
-  const std::uint64_t expected = kHeaderBytes + 12ull * L + 8 * I + 12ull * V + 4 * (I + 1) +
+  const std::uint64_t expected = kVdrHeaderBytes + 12ull * L + 8 * I + 12ull * V + 4 * (I + 1) +
                                  16ull * S + std::uint64_t(W) * (uv ? 28 : 20) + 12ull * F +
-                                 kClusterBytes * K + 4ull * tw * th;
+                                 kVdrClusterBytes * K + 4ull * tw * th;
   if (expected != bytes.size())
     return makeError("view-dependent record size " + std::to_string(bytes.size()) +
                      " does not match its counts (" + std::to_string(expected) + ")");
   if (!finite(&o.centre.x, 3) || !finite(&o.baseColor.x, 4) || !std::isfinite(floor) ||
       !(floor > 0.0))
     return makeError("view-dependent record holds a non-finite number");
-  o.oneSided = flags & kFlagOneSided;
+  o.oneSided = flags & kVdrFlagOneSided;
   vdr::VertexHierarchy& h = o.hierarchy;
   h.leafCount = L;
   std::vector<glm::vec3> leaf(L);
@@ -255,7 +255,7 @@ StoredVdr storeVdrObject(const vdr::VdrObject& object) {
 std::vector<std::byte> encodeVdrIndex(std::span<const VdrEntry> entries,
                                       std::uint64_t indexOffset) {
   store::ByteWriter w;
-  w.putBytes(kIndexMagic, 8);
+  w.putBytes(kVdrIndexMagic, 8);
   w.put(kVdrIndexVersion);
   w.put(std::uint32_t(entries.size()));
   for (const VdrEntry& e : entries) {
@@ -274,7 +274,7 @@ std::vector<std::byte> encodeVdrIndex(std::span<const VdrEntry> entries,
   const std::uint64_t size = w.bytes.size();
   w.put(indexOffset);
   w.put(size);
-  w.putBytes(kTrailerMagic, 8);
+  w.putBytes(kVdrTrailerMagic, 8);
   return std::move(w.bytes);
 }
 
@@ -285,11 +285,11 @@ Result<std::vector<VdrEntry>> decodeVdrIndex(std::span<const std::byte> index,
   std::uint32_t version = 0, n = 0;
   if (!r.getBytes(magic, 8) || !r.get(version) || !r.get(n))
     return makeError("vdr.bin: index truncated");
-  if (std::memcmp(magic, kIndexMagic, 8) != 0) return makeError("vdr.bin: bad index magic");
+  if (std::memcmp(magic, kVdrIndexMagic, 8) != 0) return makeError("vdr.bin: bad index magic");
   if (version != kVdrIndexVersion)
     return makeError("vdr.bin: index version " + std::to_string(version) +
                      " is not supported (rebuild the store with --vdr)");
-  if (16 + std::uint64_t(n) * kEntryBytes + 8 != index.size())
+  if (16 + std::uint64_t(n) * kVdrEntryBytes + 8 != index.size())
     return makeError("vdr.bin: index size does not match its object count");
   std::vector<VdrEntry> out(n);
   for (VdrEntry& e : out)
@@ -316,18 +316,18 @@ Result<std::vector<VdrEntry>> readVdrIndex(const std::filesystem::path& file,
   if (!in) return makeError("cannot open " + file.string());
   in.seekg(0, std::ios::end);
   const auto end = in.tellg();
-  if (end < std::streamoff(kTrailerBytes)) return makeError(file.string() + " is truncated");
+  if (end < std::streamoff(kVdrTrailerBytes)) return makeError(file.string() + " is truncated");
   const auto size = std::uint64_t(end);
-  std::byte trailer[kTrailerBytes];
-  in.seekg(std::streamoff(size - kTrailerBytes));
-  if (!in.read(reinterpret_cast<char*>(trailer), kTrailerBytes))
+  std::byte trailer[kVdrTrailerBytes];
+  in.seekg(std::streamoff(size - kVdrTrailerBytes));
+  if (!in.read(reinterpret_cast<char*>(trailer), kVdrTrailerBytes))
     return makeError("cannot read " + file.string());
   std::uint64_t offset = 0, length = 0;
   std::memcpy(&offset, trailer, 8);
   std::memcpy(&length, trailer + 8, 8);
-  if (std::memcmp(trailer + 16, kTrailerMagic, 8) != 0)
+  if (std::memcmp(trailer + 16, kVdrTrailerMagic, 8) != 0)
     return makeError(file.string() + " is not a view-dependent section (or is truncated)");
-  if (offset > size - kTrailerBytes || length != size - kTrailerBytes - offset)
+  if (offset > size - kVdrTrailerBytes || length != size - kVdrTrailerBytes - offset)
     return makeError(file.string() + ": the index lies outside the file");
   std::vector<std::byte> index(length);
   in.seekg(std::streamoff(offset));
