@@ -122,7 +122,10 @@ Result<VdrObject> buildVdrObject(const Mesh& input, const std::vector<std::uint8
   for (const auto& f : faceVertices)
     o.faceWedges.push_back({wedgeOf[f[0]], wedgeOf[f[1]], wedgeOf[f[2]]});
   assert(o.faceWedges.size() == hierarchy->faces.size());
-  o.clusters = buildClusterHierarchy(*hierarchy, options.clusters);
+  ClusterOptions co = options.clusters;
+  if (!(co.errorFloor > 0.0) && options.errorFloorFraction > 0.0)
+    co.errorFloor = options.errorFloorFraction * glm::length(mesh.bounds().size());
+  o.clusters = buildClusterHierarchy(*hierarchy, co);
   o.hierarchy = std::move(*hierarchy);
   return o;
 }
