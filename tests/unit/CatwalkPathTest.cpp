@@ -5,9 +5,9 @@
 
 #include "ImportTestUtil.h"
 #include "hlod/import/Import.h"
+#include "hlod/metrics/TriangleBvh.h"
 #include "hlod/plant/PowerPlant.h"
 #include "hlod/runtime/CatwalkPath.h"
-#include "hlod/metrics/TriangleBvh.h"
 
 using namespace hlod;
 

@@ -49,7 +49,8 @@ std::vector<std::byte> encodeVdrObject(const vdr::VdrObject& o) {
   store::ByteWriter w;
   w.put(kVdrRecordMagic);
   w.put(kVdrRecordVersion);
-  w.put((uv ? kVdrFlagTexCoords : 0u) | (o.oneSided ? kVdrFlagOneSided : 0u) | (tex ? kVdrFlagTexture : 0u));
+  w.put((uv ? kVdrFlagTexCoords : 0u) | (o.oneSided ? kVdrFlagOneSided : 0u) |
+        (tex ? kVdrFlagTexture : 0u));
   for (std::uint32_t n : {L, V, F, W, S, K}) w.put(n);
   w.put(std::uint32_t(tex ? o.texture->width : 0));
   w.put(std::uint32_t(tex ? o.texture->height : 0));
@@ -98,10 +99,11 @@ Result<vdr::VdrObject> decodeVdrObject(std::span<const std::byte> bytes) {
     return makeError("view-dependent record version " + std::to_string(version) +
                      " is not supported (rebuild the store with --vdr)");
   const bool uv = flags & kVdrFlagTexCoords, tex = flags & kVdrFlagTexture;
-  if ((flags & ~(kVdrFlagTexCoords | kVdrFlagOneSided | kVdrFlagTexture)) || L == 0 || L > kVdrMaxLeaves ||
-      V < L || V - L >= L || F == 0 || F > kVdrMaxFaces || W < L || W > 2 * kVdrMaxLeaves ||
-      S > kVdrMaxStoredFaces || K == 0 || K > V || tw > kVdrMaxTextureSide || th > kVdrMaxTextureSide ||
-      (tw == 0) != (th == 0) || tex != (tw > 0) || (tex && !uv))
+  if ((flags & ~(kVdrFlagTexCoords | kVdrFlagOneSided | kVdrFlagTexture)) || L == 0 ||
+      L > kVdrMaxLeaves || V < L || V - L >= L || F == 0 || F > kVdrMaxFaces || W < L ||
+      W > 2 * kVdrMaxLeaves || S > kVdrMaxStoredFaces || K == 0 || K > V ||
+      tw > kVdrMaxTextureSide || th > kVdrMaxTextureSide || (tw == 0) != (th == 0) ||
+      tex != (tw > 0) || (tex && !uv))
     return makeError("view-dependent record has impossible counts");
   const std::uint64_t I = V - L;
   const std::uint64_t expected = kVdrHeaderBytes + 12ull * L + 8 * I + 12ull * V + 4 * (I + 1) +

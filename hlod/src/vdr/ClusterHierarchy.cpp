@@ -189,7 +189,7 @@ class Clustering {
   ActiveMesh mesh_;
   std::vector<std::vector<std::uint32_t>> queues_;  // per cluster: its vertex priority queue
   std::deque<std::uint32_t> clusterQueue_;
-  std::vector<std::uint32_t> queuedIn_;      // per vertex: the cluster whose queue holds it
+  std::vector<std::uint32_t> queuedIn_;        // per vertex: the cluster whose queue holds it
   std::priority_queue<std::uint32_t> latest_;  // queued inner vertices, made last first
 };
 

@@ -14,8 +14,8 @@
 #include "hlod/builder/HlodBuilder.h"
 #include "hlod/city/City.h"
 #include "hlod/import/Import.h"
-#include "hlod/tiles/TilesetImport.h"
 #include "hlod/store/NodeStore.h"
+#include "hlod/tiles/TilesetImport.h"
 #include "service/Args.h"
 #include "service/Progress.h"
 

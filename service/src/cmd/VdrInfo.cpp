@@ -45,8 +45,8 @@ hlod::Result<nlohmann::json> vdrInfo(const hlod::NodeStore& store, bool print) {
   nlohmann::json objects = nlohmann::json::array();
   for (std::size_t i = 0; i < entries.size(); ++i) {
     auto object = store.loadVdrObject(i);
-    if (!object) return hlod::makeError("vdr.bin object " + std::to_string(i) + ": " +
-                                        object.message());
+    if (!object)
+      return hlod::makeError("vdr.bin object " + std::to_string(i) + ": " + object.message());
     const hlod::vdr::ClusterHierarchy& h = object->clusters;
     faces += entries[i].faces;
     vertices += entries[i].vertices;

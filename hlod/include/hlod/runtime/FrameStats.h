@@ -102,7 +102,7 @@ struct FrameRecord {
   std::uint64_t gpuBytes = 0;
   std::uint32_t gpuEvictions = 0;
   double wallMs = 0.0;
-  double refineMs = 0.0;        // view-dependent rendering: refinement and cluster arrays, ms
+  double refineMs = 0.0;  // view-dependent rendering: refinement and cluster arrays, ms
   std::uint32_t vertexSplits = 0;
   std::uint32_t edgeCollapses = 0;
   std::uint32_t activeClusters = 0;
