@@ -193,6 +193,13 @@ Status FrameDriver::start(double knownVTime, double knownFixedMs) {
   return Ok{};
 }
 
+void FrameDriver::forgetProbeFrames() {
+  frames_ = 0;
+  recent_.clear();
+  lastFront_.clear();
+  lastDraws_.clear();
+}
+
 Status FrameDriver::probeOwnVTime(const Camera& camera) {
   CameraSample sample;
   sample.camera = camera;
@@ -220,10 +227,7 @@ Status FrameDriver::probeOwnVTime(const Camera& camera) {
     if (steady) break;
   }
   options_.settleTimeout = settleTimeout;
-  frames_ = 0;
-  recent_.clear();
-  lastFront_.clear();
-  lastDraws_.clear();
+  forgetProbeFrames();
   return status;
 }
 
@@ -246,11 +250,7 @@ Result<FrameDriver::TimedFront> FrameDriver::probeFront(const Camera& camera, do
   // renderFrame drew the front once: its first use is paid, timeDraws pays it again (cheap).
   auto timed = timeDraws(camera, lastFront_, lastDraws_);
   if (!timed) return timed.error();
-  // Not a frame of the session.
-  frames_ = 0;
-  recent_.clear();
-  lastFront_.clear();
-  lastDraws_.clear();
+  forgetProbeFrames();
   return TimedFront{(*probe)->lastEstimatedCost(), timed->geometryMs};
 }
 

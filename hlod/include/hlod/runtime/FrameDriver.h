@@ -234,6 +234,8 @@ class FrameDriver {
   // setting v_time for the next, until v_time moves by less than 10% (at most 4); then
   // forgotten as frames.
   Status probeOwnVTime(const Camera& camera);
+  // The probes' frames are not frames of the session.
+  void forgetProbeFrames();
   // The front a budgeted selector at `vTime` picks for `camera`, loaded and timed.
   Result<TimedFront> probeFront(const Camera& camera, double vTime);
   // Draws `front` once to pay its first use, then three times: the draw of median geometry time.
