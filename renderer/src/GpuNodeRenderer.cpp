@@ -88,6 +88,24 @@ bool GpuNodeRenderer::reachesNear(const hlod::Aabb& b) const {
   return glm::dot(nearest - eye_, forward_) <= zNear_ * 1.01;
 }
 
+std::vector<std::uint8_t> GpuNodeRenderer::queryBoxesOnLastDraw(
+    std::span<const std::uint32_t> nodes) {
+  std::vector<std::vector<hlod::Aabb>> batches;
+  std::vector<std::size_t> at;  // per batch, the node's position
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const hlod::Aabb& box = skeleton_.nodes[nodes[k]].bounds;
+    if (reachesNear(box)) continue;
+    batches.push_back({box});
+    at.push_back(k);
+  }
+  std::vector<std::uint8_t> visible(nodes.size(), 1);
+  const auto samples = renderer_->queryBoxesOnLastFrame(setup_.view, batches);
+  // An answer that did not come (it cannot after the wait) counts as visible too.
+  for (std::size_t b = 0; b < at.size() && b < samples.size(); ++b)
+    visible[at[b]] = !samples[b] || *samples[b] > 0;
+  return visible;
+}
+
 void GpuNodeRenderer::setUp(const hlod::Camera& camera, std::span<const std::uint32_t> front,
                             std::span<const hlod::NodeDraw> draws,
                             const hlod::OcclusionPlan* occlusion) {

@@ -469,6 +469,20 @@ void Renderer::prepareOcclusion(const OcclusionDraw* occlusion) {
   if (occlusion && occlusion_) occlusion_->beginFrame();
 }
 
+std::vector<std::optional<std::uint64_t>> Renderer::queryBoxesOnLastFrame(
+    const FrameView& view, std::span<const std::vector<hlod::Aabb>> batches) {
+  const OcclusionDraw queries;
+  prepareOcclusion(&queries);
+  if (!occlusion_) return std::vector<std::optional<std::uint64_t>>(batches.size());
+  const GlFunctions& g = gl();
+  g.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  g.Viewport(0, 0, options_.width, options_.height);
+  occlusion_->queryBoxes(view, batches);
+  g.Finish();
+  return occlusion_->boxSamples();
+}
+
 Renderer::OcclusionAnswers Renderer::occlusionAnswers() const {
   OcclusionAnswers a;
   if (!occlusion_) return a;

@@ -35,6 +35,8 @@ const std::vector<Command>& commands() {
        cmd::kStudyUsage, cmd::runStudy},
       {"study-build", "the simplifiers per level: distance to the original, triangles, time",
        cmd::kStudyBuildUsage, cmd::runStudyBuild},
+      {"switch", "a camera path through the occlusion-switch: three processes, visible-set deltas",
+       cmd::kSwitchUsage, cmd::runSwitch},
       {"serve", "serve the HTTP API and the web page over a folder of node stores",
        cmd::kServeUsage, cmd::runServe},
   };

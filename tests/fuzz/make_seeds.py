@@ -554,3 +554,13 @@ put("tileset", "implicit-quadtree.txt", files(
        "c-1-0-0.glb": glb_triangle(), "c-1-1-1.glb": glb_triangle(), "c-2-0-0.glb": glb_triangle(),
        "c-3-0-0.glb": glb_triangle(), "c-3-1-0.glb": glb_triangle(), "c-3-0-1.glb": glb_triangle(),
        "c-3-1-1.glb": glb_triangle()}))
+
+
+# --- switch_message: the occlusion-switch's messages (hlod/runtime/VisibleSetDelta.h) ---
+def switch_message(frame, added, removed, camera=(0.0, 0.0, 10.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0)):
+    body = struct.pack("<9d", *camera) + struct.pack("<%dI" % (len(added) + len(removed)),
+                                                     *(list(added) + list(removed)))
+    return struct.pack("<5I", 0x534F4C48, frame, len(added), len(removed), len(body)) + body
+put("switch_message", "first-frame.bin", switch_message(0, range(0, 40, 3), []))
+put("switch_message", "delta.bin", switch_message(7, [5, 9], [1, 2, 60000]))
+put("switch_message", "empty.bin", switch_message(3, [], []))

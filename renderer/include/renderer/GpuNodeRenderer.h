@@ -47,6 +47,10 @@ class GpuNodeRenderer final : public hlod::NodeRenderer {
   hlod::Result<VisibleCount> countVisible(const hlod::Camera& camera,
                                           std::span<const std::uint32_t> nodes,
                                           std::span<const hlod::NodeDraw> draws = {});
+  // The occlusion-switch's HC (Manocha sec. 4.2): each node's box queried against the depth of
+  // the last draw, from that draw's camera. Per node: 1 where samples passed, or where the box
+  // reaches the near plane and is not queried (it counts as visible); 0 hidden.
+  std::vector<std::uint8_t> queryBoxesOnLastDraw(std::span<const std::uint32_t> nodes);
   hlod::Image readback() override { return renderer_->readback(); }
   bool drawsShadowPass() const override {
     const auto& p = renderer_->passes();

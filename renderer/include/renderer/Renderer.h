@@ -97,6 +97,12 @@ class Renderer {
   };
   OcclusionAnswers occlusionAnswers() const;
 
+  // The occlusion-switch's hardware culling (Manocha sec. 4.2, HC): one query per batch of boxes
+  // against the depth the last frame left (drawn by this context a frame earlier as the
+  // occluders, OR), changing nothing; waits for the answers (this context does nothing else).
+  std::vector<std::optional<std::uint64_t>> queryBoxesOnLastFrame(
+      const FrameView& view, std::span<const std::vector<hlod::Aabb>> batches);
+
   // Render while loading (Manocha sec. 5.5): a frame drawn in parts as its nodes arrive.
   // beginParts clears the frame; each drawPart draws more of the front, timed through its
   // glFinish (returned, ms); endParts runs the box pass and the passes after the geometry.

@@ -48,6 +48,9 @@ int runStudy(const Argv& args);
 extern const char* const kStudyBuildUsage;
 int runStudyBuild(const Argv& args);
 
+extern const char* const kSwitchUsage;
+int runSwitch(const Argv& args);
+
 extern const char* const kServeUsage;
 int runServe(const Argv& args);
 
