@@ -35,9 +35,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+using SwitchClock = std::chrono::steady_clock;
+double elapsedMs(SwitchClock::time_point t) {
+  return std::chrono::duration<double, std::milli>(SwitchClock::now() - t).count();
 }
 
 // A peer that says nothing for this long has failed (a frame takes well under a second).
@@ -237,7 +237,7 @@ hlod::Status runSwitchSide(int side, const std::string& storePath, const hlod::C
   if (!selector) return selector.error();
   const hlod::AllResident all;
   for (std::uint64_t f = 0; f < frames; ++f) {
-    const auto start = Clock::now();
+    const auto start = SwitchClock::now();
     if (int(f % 2) == side) {
       // HC: the candidates against the depth this process drew last frame as OR.
       hlod::View view{role->cameras[f], glm::dvec3(0.0), o.width, o.height};
@@ -261,7 +261,7 @@ hlod::Status runSwitchSide(int side, const std::string& storePath, const hlod::C
       if (auto s = sendAll(peer, bytes); !s) return s;
       if (auto s = sendAll(rvg, bytes); !s) return s;
       std::fprintf(log, "%llu,hc,%zu,%.3f\n", (unsigned long long)f, candidates.size(),
-                   msSince(start));
+                   elapsedMs(start));
     } else {
       // OR: V_f from HC, drawn with the next frame's camera for this process's HC then.
       std::uint64_t bytes = 0;
@@ -270,7 +270,7 @@ hlod::Status runSwitchSide(int side, const std::string& storePath, const hlod::C
       if (auto a = role->apply(*m, std::uint32_t(f)); !a) return a;
       if (f + 1 < frames)
         if (auto d = role->draw(std::uint32_t(f + 1)); !d) return d;
-      std::fprintf(log, "%llu,or,0,%.3f\n", (unsigned long long)f, msSince(start));
+      std::fprintf(log, "%llu,or,0,%.3f\n", (unsigned long long)f, elapsedMs(start));
     }
   }
   return hlod::Ok{};
@@ -288,7 +288,7 @@ hlod::Status runRvg(const std::string& storePath, const hlod::CameraPath& path,
     std::uint64_t bytes = 0;
     auto m = receiveMessage(f % 2 == 0 ? fromA : fromB, nodeCount, bytes);
     if (!m) return m.error();
-    const auto start = Clock::now();
+    const auto start = SwitchClock::now();
     if (auto a = role->apply(*m, std::uint32_t(f)); !a) return a;
     if (auto d = role->draw(std::uint32_t(f)); !d) return d;
     char name[32];
@@ -300,7 +300,7 @@ hlod::Status runRvg(const std::string& storePath, const hlod::CameraPath& path,
         hlod::kSwitchHeaderBytes + hlod::kSwitchCameraBytes + 4 * role->visible.size();
     std::fprintf(log, "%llu,%zu,%zu,%zu,%llu,%llu,%.3f\n", (unsigned long long)f,
                  role->visible.size(), m->delta.added.size(), m->delta.removed.size(),
-                 (unsigned long long)(2 * bytes), (unsigned long long)(2 * full), msSince(start));
+                 (unsigned long long)(2 * bytes), (unsigned long long)(2 * full), elapsedMs(start));
     const char one = 1;
     [[maybe_unused]] const auto n = ::write(tick, &one, 1);
   }
