@@ -103,6 +103,8 @@ export class JobsList {
     if (job.state === 'done' && out.video) links.push(el('a', { href: out.video, download: `${job.id}.mp4` }, 'MP4'));
     if (job.framesDone > 0 && out.statsCsv) links.push(el('a', { href: out.statsCsv, download: `${job.id}-stats.csv`, class: 'csv' }, 'CSV'));
     if (job.framesDone > 0 && out.statsJson) links.push(el('a', { href: out.statsJson, target: '_blank', rel: 'noopener' }, 'JSON'));
+    // Per-frame timing for Perfetto UI or chrome://tracing (docs/api.md).
+    if (job.framesDone > 0 && out.trace) links.push(el('a', { href: out.trace, download: `${job.id}.trace.json`, class: 'trace', title: 'per-frame timing: open in ui.perfetto.dev or chrome://tracing' }, 'trace'));
     const action = this.action(job);
     if (ACTIVE.has(job.state)) action.title = 'stop after the current frame';
     return el('tr', { 'data-job': job.id, 'data-state': job.state },

@@ -11,6 +11,7 @@
 #include "hlod/scene/SceneFile.h"
 #include "hlod/store/NodeStore.h"
 #include "renderer/VideoWriter.h"
+#include "service/ChromeTrace.h"
 
 namespace service {
 
@@ -264,6 +265,9 @@ hlod::Result<FileRunResult> runPathToFiles(Session& session, const hlod::CameraP
                                         outputs.plots ? (statsDir / prefix).string() : "", extra);
   hlod::StatsSink* statsSink = stats.get();
   sinks.push_back(std::move(stats));
+  if (!outputs.trace.empty())
+    sinks.push_back(std::make_unique<ChromeTraceSink>(outputs.trace.string(), "hlodr render",
+                                                      nlohmann::json::parse(extra)));
 
   std::vector<hlod::FrameSink*> list;
   for (auto& s : sinks) list.push_back(s.get());

@@ -289,6 +289,8 @@ Status FrameDriver::probeVTime(const Camera& camera, const TimedFront& roots) {
 
 Status FrameDriver::uploadSettled(FrameRecord& rec) {
   drainLoader();
+  // The timeline's upload begins at the frame's first upload; later ones add to its duration.
+  if (rec.uploadMs == 0.0) rec.timeline.uploadStartUs = microsecondsOf(loader_.clock().now());
   while (renderer_.pendingUploads() > 0) {
     auto u = renderer_.upload(1e300, 0);
     if (!u) return u.error();
@@ -397,10 +399,12 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   const auto frameStart = loader_.clock().now();
   const bool settled = mode == FrameMode::Settled;
   FrameRecord rec;
+  rec.timeline.startUs = microsecondsOf(frameStart);
   double waitMs = 0.0;
 
   drainLoader();
   if (!settled) {
+    rec.timeline.uploadStartUs = microsecondsOf(loader_.clock().now());
     auto u = renderer_.upload(options_.uploadBudgetMs, options_.uploadBudgetBytes);
     if (!u) return u.error();
     rec.uploadMs = u->ms;
@@ -420,6 +424,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   view.spentMs = rec.uploadMs + screenPassMs_ + fixedMs_ + (culling ? occlusionMs_ : 0.0);
   view.frontDraws = frontDraws();
   const auto selectStart = loader_.clock().now();
+  rec.timeline.selectStartUs = microsecondsOf(selectStart);
   // Settled: select as if everything were resident; that front is then loaded before drawing.
   const AllResident allResident;
   Selection sel = selector_->select(
@@ -461,8 +466,10 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
       OcclusionPlan plan;
       if (culling) plan = occlusion_.plan(lastFront_, sel.occluded);
       const auto waitStart = loader_.clock().now();
+      rec.timeline.drawStartUs = microsecondsOf(waitStart);
       auto parts = drawWhileLoading(view, culling ? &plan : nullptr, rec);
       if (!parts) return parts.error();
+      rec.timeline.drawEndUs = microsecondsOf(loader_.clock().now());
       drawnInParts = std::move(*parts);
       waitMs = std::max(
           0.0, msSince(loader_.clock(), waitStart) - (drawnInParts ? drawnInParts->ms : 0.0));
@@ -501,8 +508,10 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
     orderNearToFar(selector_->skeleton(), view.camera.position, lastFront_, lastDraws_);
     OcclusionPlan plan;
     if (culling) plan = occlusion_.plan(lastFront_, sel.occluded);
+    rec.timeline.drawStartUs = microsecondsOf(loader_.clock().now());
     drawn = renderer_.draw(view.camera, lastFront_, lastDraws_, culling ? &plan : nullptr);
     if (!drawn) return drawn.error();
+    rec.timeline.drawEndUs = microsecondsOf(loader_.clock().now());
   }
 
   // Frame time: this frame's uploads plus the GL work through glFinish (settled-mode uploads

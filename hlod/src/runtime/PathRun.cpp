@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "hlod/runtime/LinkClock.h"
 #include "hlod/runtime/Plots.h"
 
 namespace hlod {
@@ -55,11 +56,27 @@ Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
       failure = makeError("frame " + std::to_string(i) + ": " + rec.message());
       break;
     }
+    // The timeline's readback and encode (the sinks that take pixels) are timed here, and the
+    // sinks that take pixels go first, so that the others see the whole frame's timeline.
+    LinkClock& clock = driver.loader().clock();
     Image image;
-    if (pixels) image = driver.renderer().readback();
-    for (FrameSink* sink : sinks) {
-      const Image* mine = sink->wantsPixels() ? &image : nullptr;
-      if (auto s = sink->onFrame(*rec, mine); !s && failure) failure = s;
+    if (pixels) {
+      const auto start = clock.now();
+      image = driver.renderer().readback();
+      rec->timeline.readbackStartUs = microsecondsOf(start);
+      rec->timeline.readbackUs = microsecondsOf(clock.now()) - rec->timeline.readbackStartUs;
+    }
+    for (const bool withPixels : {true, false}) {
+      const auto start = clock.now();
+      for (FrameSink* sink : sinks) {
+        if (sink->wantsPixels() != withPixels) continue;
+        const Image* mine = withPixels ? &image : nullptr;
+        if (auto s = sink->onFrame(*rec, mine); !s && failure) failure = s;
+      }
+      if (withPixels && pixels) {
+        rec->timeline.encodeStartUs = microsecondsOf(start);
+        rec->timeline.encodeUs = microsecondsOf(clock.now()) - rec->timeline.encodeStartUs;
+      }
     }
     if (!failure) break;
     ++result.framesRendered;

@@ -146,6 +146,8 @@ struct FileOutputs {
   std::filesystem::path output;
   std::filesystem::path statsDir;
   bool plots = false;  // the three SVG figures of Lakhia IV too
+  // Not empty: the run's per-frame timing as Chrome Trace Event JSON (service/ChromeTrace.h).
+  std::filesystem::path trace;
 };
 
 struct FileRunResult {

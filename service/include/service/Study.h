@@ -47,6 +47,9 @@ struct StudyOptions {
   // What every frame draws, the reference's too: what `hlodr render` draws without a scene
   // (textures, lambert, sun), so that the errors are those a user sees, not of flat silhouettes.
   hlod::SceneEffects effects = hlod::defaultEffects();
+  // Not empty: every run's frames as Chrome Trace Event JSON here, a process per run
+  // (service/ChromeTrace.h); the reference is not traced.
+  std::filesystem::path trace;
 };
 
 // what: a line for a person; fraction: of the whole study.

@@ -115,7 +115,7 @@ hlod::Result<Args> parseWithPathRun(const Argv& argv, std::set<std::string> flag
 
 int runRenderPath(const Argv& argv) {
   auto args = parseWithPathRun(argv, {"quiet", "unlit", "no-textures", "fog"},
-                               {"output", "path", "size", "scene"});
+                               {"output", "path", "size", "scene", "trace"});
   if (!args) return usageError("render", args.message());
   auto declared = sceneFromArgs(*args, {0.0, 0.0, 1.0});
   if (!declared) return usageError("render", declared.message());
@@ -189,6 +189,7 @@ int runRenderPath(const Argv& argv) {
   FileOutputs outputs;
   outputs.output = args->get("output", "");
   outputs.plots = args->has("plots");
+  outputs.trace = args->get("trace", "");
   ProgressLine progress("render", quiet);
   auto result = runPathToFiles(
       **session, *path, ro, outputs,
@@ -220,6 +221,7 @@ int runRenderPath(const Argv& argv) {
       s.peakResidentBytes / 1048576.0);
   if (s.capBytes > 0) std::printf(" of cap %.1f MB (%.2f)", s.capBytes / 1048576.0, s.peakOverCap);
   std::printf("\nstats: %s\n", result->statsJson.string().c_str());
+  if (!outputs.trace.empty()) std::printf("trace: %s\n", outputs.trace.string().c_str());
   for (const auto& p : result->plots) std::printf("plot: %s\n", p.string().c_str());
   return failure.empty() ? 0 : 1;
 }

@@ -88,6 +88,9 @@ const char* const kRenderUsage =
     "{gpuMb}\n"
     "{showOcclusion}\n"
     "  --plots                 also levels.svg, toggles.svg, frametime.svg (Lakhia Figs. 7-9)\n"
+    "  --trace FILE            per-frame timing as Chrome Trace Event JSON (Perfetto UI,\n"
+    "                          chrome://tracing): select, upload, the passes, readback and\n"
+    "                          encode as slices; resident bytes, GPU bytes and v_time as counters\n"
     "{splats}\n"
     "  --params N=V,...        selector constants by their names in the code, e.g.\n"
     "                          c_aim=0.95,c_vis=4,feedbackGain=0.2,ssePixels=16; each has a\n"
@@ -121,8 +124,9 @@ hlod::Result<std::array<double, 6>> parseCamera(const std::string& s) {
 }
 
 int runRender(const Argv& argv) {
-  auto args = parseWithPathRun(argv, {"unlit", "no-textures", "fog", "quiet"},
-                               {"output", "camera", "up", "size", "fov", "path", "scene", "lod"});
+  auto args =
+      parseWithPathRun(argv, {"unlit", "no-textures", "fog", "quiet"},
+                       {"output", "camera", "up", "size", "fov", "path", "scene", "lod", "trace"});
   if (!args) {
     std::fprintf(stderr, "hlodr render: %s\n", args.message().c_str());
     return 2;
@@ -151,6 +155,10 @@ int runRender(const Argv& argv) {
   // Any --path: a camera path run (PathCommand.cpp checks the rest); a node store without one:
   // one budget-bound frame (RenderStoreCommand.cpp).
   if (args->has("path")) return runRenderPath(argv);
+  if (args->has("trace")) {
+    std::fprintf(stderr, "hlodr render: --trace is for a path (--path)\n");
+    return 2;
+  }
   if (isNodeStore(model)) return runRenderStoreFrame(argv);
   for (const auto* names : {&kPathRunOptions, &kPathRunFlags}) {
     for (const std::string& o : *names) {

@@ -43,13 +43,16 @@ const char* const kStudyUsage =
     "  --scene FILE            the effects every frame draws (docs/scene.md; default: textures,\n"
     "                          lambert shading and the sun, as `hlodr render`); or --unlit,\n"
     "                          --no-textures, --fog\n"
+    "  --trace FILE            every run's frames as Chrome Trace Event JSON (Perfetto UI,\n"
+    "                          chrome://tracing), a process per run (the reference is not\n"
+    "                          traced)\n"
     "  --quiet                 no progress line\n";
 
 int runStudy(const Argv& argv) {
   auto args = Args::parse(
       argv, {"quiet", "unlit", "no-textures", "fog"},
       {"output", "path", "kind", "budgets", "selectors", "sse-px", "size", "frames", "fps", "mode",
-       "strips", "memory-mb", "scene", "params", "splats", "occlusion", "reference-mb"});
+       "strips", "memory-mb", "scene", "params", "splats", "occlusion", "reference-mb", "trace"});
   if (!args) return commandError("study", args.message() + "\n" + expandUsage(kStudyUsage), 2);
   if (args->positionals().size() != 1)
     return commandError(
@@ -133,6 +136,7 @@ int runStudy(const Argv& argv) {
       {"splats", o.selectorParams.splats},
       {"occlusion", *occlusion},
       {"scene", declared->fromFile ? declared->file.string() : std::string("default effects")}};
+  o.trace = args->get("trace", "");
   ProgressLine progress("study", args->has("quiet"));
   auto report = service::runStudy(
       source, *path, o, args->get("output", ""), settings,
@@ -142,6 +146,7 @@ int runStudy(const Argv& argv) {
   for (const auto& line : hlod::study::answer(report->runs).lines())
     std::printf("%s\n", line.c_str());
   std::printf("report: %s/index.html\n", args->get("output", "").c_str());
+  if (!o.trace.empty()) std::printf("trace: %s\n", o.trace.string().c_str());
   return 0;
 }
 

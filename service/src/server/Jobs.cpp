@@ -12,6 +12,7 @@
 #include "hlod/tiles/TilesetExport.h"
 #include "renderer/VideoWriter.h"
 #include "server/SessionManager.h"
+#include "service/ChromeTrace.h"
 
 namespace service::server {
 
@@ -233,6 +234,7 @@ nlohmann::json Job::jsonLocked() const {
        {{"video", video},
         {"statsJson", base + "/stats"},
         {"statsCsv", base + "/stats.csv"},
+        {"trace", base + "/trace.json"},
         {"events", base + "/events"},
         {"frames", base + "/frames/{n}"}}}};
   if (!error_.empty()) j["error"] = error_;
@@ -250,6 +252,18 @@ std::string Job::statsCsv() const {
   if (recorded_) return readText(dir / "stats.csv", "");
   std::lock_guard lock(mutex_);
   return hlod::statsCsv(records_);
+}
+
+std::optional<std::string> Job::traceJson() const {
+  std::lock_guard lock(mutex_);
+  if (recorded_) {
+    std::string text = frameJson_.empty() ? "" : readText(dir / "trace.json", "");
+    if (text.empty()) return std::nullopt;
+    return text;
+  }
+  if (records_.empty()) return std::nullopt;
+  const TraceRun run{"job " + id, records_, settings.render.json()};
+  return chromeTrace(std::span<const TraceRun>(&run, 1)).dump();
 }
 
 fs::path Job::framePath(std::uint64_t n) const {
@@ -571,6 +585,10 @@ void JobManager::runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraP
       (job->dir / "stats.json").string(), (job->dir / "stats.csv").string(), "",
       "{\"session\":" + (*session)->settingsJson() + "}"));
   sinks.push_back(std::make_unique<JobSink>(*job, metrics_));
+  // Kept in the folder for GET .../trace.json after a restart (a live job's is built from its
+  // records).
+  sinks.push_back(std::make_unique<ChromeTraceSink>((job->dir / "trace.json").string(),
+                                                    "job " + job->id, job->settings.render.json()));
   std::vector<hlod::FrameSink*> list;
   for (auto& s : sinks) list.push_back(s.get());
   hlod::PathRunOptions o;

@@ -84,6 +84,9 @@ class Job {
   Events eventsFrom(std::size_t from, JobState knownState, std::chrono::milliseconds wait) const;
   std::string statsJson() const;
   std::string statsCsv() const;
+  // The frames so far as Chrome Trace Event JSON (service/ChromeTrace.h); nullopt before the
+  // first frame (a restored job: its trace.json, written when it ended).
+  std::optional<std::string> traceJson() const;
   std::filesystem::path framePath(std::uint64_t n) const;  // empty while not rendered
   std::filesystem::path videoPath() const;
   // The MP4 is closed and holds frames: the job is done, or was cancelled after its first frame.

@@ -1,12 +1,15 @@
 // The accuracy study's renders. See service/Study.h.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <vector>
 
 #include "hlod/metrics/ImageMetrics.h"
+#include "hlod/runtime/LinkClock.h"
 #include "renderer/ImageEncoder.h"
 #include "service/BatchedReference.h"
+#include "service/ChromeTrace.h"
 #include "service/Session.h"
 #include "service/Study.h"
 
@@ -145,7 +148,10 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   // Each run starts from the timing the run before left, as the server's sessions do (only the
   // first measures one: see FrameDriver::start).
   hlod::FrontTiming known;
+  // --trace: every frame each run drew (settling and warm-up frames too), a process per run.
+  std::vector<std::vector<hlod::FrameRecord>> traced;
   for (const StudyConfig& c : configs) {
+    if (!o.trace.empty()) traced.emplace_back();
     SessionOptions so = base;
     so.selectorParams = o.selectorParams;
     so.selector = c.selector;
@@ -172,6 +178,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
         if (!rec)
           return hlod::makeError(c.label() + ", frame " + std::to_string(frame) + ": " +
                                  rec.message());
+        if (!traced.empty()) traced.back().push_back(*rec);
         return rec;
       };
       if (c.mode == hlod::FrameMode::Settled && o.occlusion != hlod::OcclusionMode::Off)
@@ -207,7 +214,14 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
         r.toggles = rec->upToggles + rec->downToggles;
         r.bytesLoaded = rec->bytesRead - lastBytes;
         lastBytes = rec->bytesRead;
+        const auto readbackStart = std::chrono::steady_clock::now();
         m.image = (*s)->readback();
+        if (!traced.empty() && !traced.back().empty()) {
+          // The studied frame's readback, on the clock its timeline is on (the steady one).
+          hlod::FrameTimeline& t = traced.back().back().timeline;
+          t.readbackStartUs = hlod::microsecondsOf(readbackStart);
+          t.readbackUs = hlod::microsecondsOf(std::chrono::steady_clock::now()) - t.readbackStartUs;
+        }
         const hlod::Image& ref = refImages[next];
         auto p = hlod::metrics::psnr(ref, m.image);
         auto ss = hlod::metrics::ssim(ref, m.image);
@@ -244,6 +258,12 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
     run.summary = summarize(run.frames);
     if ((*s)->selector().budgeted()) known = (*s)->driver().timing();
     report.runs.push_back(std::move(run));
+  }
+  if (!o.trace.empty()) {
+    std::vector<TraceRun> runs;
+    for (std::size_t i = 0; i < configs.size() && i < traced.size(); ++i)
+      runs.push_back({configs[i].label(), traced[i], {{"config", configs[i].label()}}});
+    if (auto w = writeChromeTrace(o.trace.string(), runs, settings); !w) return w.error();
   }
   markParetoFront(report.runs);
 

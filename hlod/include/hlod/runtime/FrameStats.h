@@ -52,6 +52,21 @@ namespace hlod {
 struct Selection;
 struct LoaderCounters;
 
+// When the frame's steps ran, for a timeline (the Chrome trace, service/ChromeTrace.h); not part
+// of stats.json or stats.csv. Times are microseconds on the frame driver's clock (the loader's
+// LinkClock: the steady clock outside tests), whose epoch means nothing: only differences do.
+// A step that did not run has its duration 0. The frame driver sets the first four; the path run
+// (PathRun.h) the readback and the encode (the sinks that take pixels), after the frame.
+struct FrameTimeline {
+  double startUs = 0.0;        // the frame began (renderFrame was called)
+  double uploadStartUs = 0.0;  // this frame's first upload (its sum is FrameRecord::uploadMs)
+  double selectStartUs = 0.0;  // front selection (FrameRecord::selectorMs)
+  double drawStartUs = 0.0;    // the draw call that ran the passes, through glFinish
+  double drawEndUs = 0.0;
+  double readbackStartUs = 0.0, readbackUs = 0.0;
+  double encodeStartUs = 0.0, encodeUs = 0.0;
+};
+
 struct FrameRecord {
   std::uint64_t index = 0;
   double time = 0.0;
@@ -107,6 +122,7 @@ struct FrameRecord {
   std::uint32_t edgeCollapses = 0;
   std::uint32_t activeClusters = 0;
   double errorBoundPx = 0.0;
+  FrameTimeline timeline;  // when the steps ran (not in stats.json / stats.csv)
 };
 
 // Copies the selector's part (targetMs, estimatedMs, triangles, levels, toggles, vTime, ...).

@@ -26,6 +26,11 @@ class LinkClock {
                        Milliseconds duration, const std::function<bool()>& stopped) = 0;
 };
 
+// A time point as microseconds since the clock's epoch: FrameTimeline's unit (FrameStats.h).
+inline double microsecondsOf(LinkClock::TimePoint t) {
+  return std::chrono::duration<double, std::micro>(t.time_since_epoch()).count();
+}
+
 // std::chrono::steady_clock, and a wait on the condition variable.
 class SteadyLinkClock final : public LinkClock {
  public:

@@ -189,6 +189,15 @@ void installJobRoutes(httplib::Server& http, ApiContext& api) {
   http.Get(R"(/api/jobs/([^/]+)/stats\.csv)",
            [stats](const Request& req, Response& res) { stats(req, res, true); });
 
+  http.Get(R"(/api/jobs/([^/]+)/trace\.json)", [&](const Request& req, Response& res) {
+    auto job = pathJobOf(api, req, res);
+    if (!job) return;
+    auto trace = job->traceJson();
+    if (!trace) return sendError(res, notFound("job " + job->id + " has no frames yet"));
+    res.set_header("Content-Disposition", "attachment; filename=\"" + job->id + ".trace.json\"");
+    res.set_content(std::move(*trace), "application/json");
+  });
+
   http.Get(R"(/api/jobs/([^/]+)/video\.mp4)", [&](const Request& req, Response& res) {
     auto job = pathJobOf(api, req, res);
     if (!job) return;
