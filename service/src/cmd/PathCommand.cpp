@@ -12,6 +12,7 @@
 #include "cmd/SessionArgs.h"
 #include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/Framing.h"
+#include "hlod/runtime/Segments.h"
 #include "hlod/store/NodeStore.h"
 #include "service/Args.h"
 #include "service/Progress.h"
@@ -102,8 +103,9 @@ int runPath(const Argv& argv) {
 }
 
 const std::set<std::string> kPathRunOptions = {
-    "budget-ms", "selector",  "mode",   "memory-mb",   "fps",    "io-mbps",   "io-latency-ms",
-    "frames",    "upload-ms", "params", "io-requests", "splats", "occlusion", "gpu-mb"};
+    "budget-ms",     "selector", "mode",      "memory-mb", "fps",         "io-mbps",
+    "io-latency-ms", "frames",   "upload-ms", "params",    "io-requests", "splats",
+    "occlusion",     "gpu-mb",   "segment",   "warmup"};
 const std::set<std::string> kPathRunFlags = {"prefetch", "plots", "show-occlusion"};
 
 hlod::Result<Args> parseWithPathRun(const Argv& argv, std::set<std::string> flags,
@@ -186,6 +188,17 @@ int runRenderPath(const Argv& argv) {
   ro.maxFrames = args->has("frames") ? *frames : -1;
   ro.prefetchSeconds = args->has("prefetch") ? 1.0 : 0.0;
   ro.mode = *mode == "settled" ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime;
+  if (auto seg = args->get("segment")) {
+    auto spec = hlod::parseSegment(*seg);
+    if (!spec) return usageError("render", spec.message());
+    ro.segmentIndex = spec->index;
+    ro.segmentCount = spec->count;
+  }
+  auto warmup = args->integer(get("warmup"));
+  if (!warmup) return usageError("render", warmup.message());
+  if (args->has("warmup") && !args->has("segment"))
+    return usageError("render", "--warmup is for a segment (--segment I/N)");
+  ro.warmupFrames = static_cast<std::uint64_t>(*warmup);
   FileOutputs outputs;
   outputs.output = args->get("output", "");
   outputs.plots = args->has("plots");
@@ -220,6 +233,13 @@ int runRenderPath(const Argv& argv) {
       s.peakResidentBytes / 1048576.0);
   if (s.capBytes > 0) std::printf(" of cap %.1f MB (%.2f)", s.capBytes / 1048576.0, s.peakOverCap);
   std::printf("\nstats: %s\n", result->statsJson.string().c_str());
+  if (ro.segmentCount > 1)
+    std::printf("segment %u/%u: frames %llu..%llu of %llu, after %llu warm-up frames\n",
+                ro.segmentIndex, ro.segmentCount,
+                static_cast<unsigned long long>(result->run.firstFrame),
+                static_cast<unsigned long long>(result->run.endFrame - 1),
+                static_cast<unsigned long long>(result->run.runFrames),
+                static_cast<unsigned long long>(result->run.warmupFrames));
   for (const auto& p : result->plots) std::printf("plot: %s\n", p.string().c_str());
   return failure.empty() ? 0 : 1;
 }
