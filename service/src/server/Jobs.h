@@ -44,6 +44,7 @@ struct JobSettings {
   long long frames = -1;  // render only the first N; < 0: all
   bool video = false;
   bool prefetch = false;
+  std::uint32_t segments = 1;  // > 1: rendered as that many tasks on the runners, then joined
   PathSpec path;
 };
 
@@ -97,6 +98,8 @@ class Job {
 
   // The runner's side.
   void setState(JobState s, const std::string& error = "");
+  // Frames come in the order of their index: a split job's segments render side by side, and
+  // a frame whose turn has not come waits (counted in the progress, not yet in framesDone).
   void addFrame(const hlod::FrameRecord& r);
   // Studies: how far along (0..1) and what they do now.
   void setProgress(double fraction, const std::string& what);
@@ -121,6 +124,7 @@ class Job {
   std::string error_;
   std::vector<hlod::FrameRecord> records_;
   std::vector<std::string> frameJson_;
+  std::map<std::uint64_t, hlod::FrameRecord> waiting_;  // a split job's frames ahead of their turn
   double progress_ = 0.0;
   std::string doing_;
   std::atomic<bool> videoReady_{false};
@@ -163,6 +167,12 @@ class JobManager {
  private:
   void runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
                   renderer::GlContext& context);
+  struct SplitRun;
+  // One segment of a split job ("segments": N); the last one to end joins them.
+  void runPathSegment(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
+                      renderer::GlContext& context, std::uint32_t index,
+                      const std::shared_ptr<SplitRun>& run);
+  void joinSplitJob(Job& job, SplitRun& run);
   static void runExportJob(Job& job);
   void restoreAll();
   // Gives the job its id and folder and publishes it; 429 past --max-jobs.
