@@ -263,9 +263,8 @@ hlod::Result<FileRunResult> runPathToFiles(Session& session, const hlod::CameraP
     auto total = hlod::runFrameCount(path, run);
     if (!total) return total.error();
     if (run.segmentIndex >= run.segmentCount || run.segmentCount > *total)
-      return hlod::makeError("cannot make segment " + std::to_string(run.segmentIndex) + "/" +
-                             std::to_string(run.segmentCount) + " of " + std::to_string(*total) +
-                             " frames");
+      return hlod::makeError("cannot split " + std::to_string(*total) + " frames into " +
+                             std::to_string(run.segmentCount) + " segments");
     const hlod::FrameRange r = hlod::segmentRange(*total, run.segmentIndex, run.segmentCount);
     extraJson["segment"] = {
         {"index", run.segmentIndex}, {"count", run.segmentCount},

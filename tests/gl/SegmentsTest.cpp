@@ -164,14 +164,15 @@ TEST_F(SegmentsTest, RenderSaysWhatIsWrongWithASegmentArgument) {
                            (out / "x").string() + " --segment ";
   fs::create_directories(out);
   ASSERT_TRUE(path->write((out / "none.json").string()).ok());
-  for (const char* bad : {"2/2", "1", "a/2", "0/0", "-1/2"}) {
+  // Each case a process (seconds under load): the forms are the unit test's (SegmentsTest).
+  for (const char* bad : {"2/2", "a/2"}) {
     const auto r = gltest::runHlodr(base + bad);
     EXPECT_EQ(r.status, 2) << bad << ": " << r.output;
     EXPECT_NE(r.output.find("--segment"), std::string::npos) << r.output;
   }
   // More segments than frames.
   const auto r = gltest::runHlodr(base + "0/5 --frames 3");
-  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("segments"), std::string::npos) << r.output;
   // --warmup without --segment.
   const auto w = gltest::runHlodr("render " + segmentStore().string() + " --path " +

@@ -151,6 +151,19 @@ int runRenderPath(const Argv& argv) {
   so.uploadBudgetMs = *uploadMs;
   auto mode = args->choice(get("mode"));
   if (!mode) return usageError("render", mode.message());
+  // Checked before the store opens and the session starts (seconds on a large store).
+  hlod::PathRunOptions segment;
+  if (auto seg = args->get("segment")) {
+    auto spec = hlod::parseSegment(*seg);
+    if (!spec) return usageError("render", spec.message());
+    segment.segmentIndex = spec->index;
+    segment.segmentCount = spec->count;
+  }
+  auto warmup = args->integer(get("warmup"));
+  if (!warmup) return usageError("render", warmup.message());
+  if (args->has("warmup") && !args->has("segment"))
+    return usageError("render", "--warmup is for a segment (--segment I/N)");
+  segment.warmupFrames = static_cast<std::uint64_t>(*warmup);
   so.effects = declared->scene.effects;
   auto backend = renderer::backendFromEnvironment();
   if (!backend) return usageError("render", backend.message());
@@ -160,6 +173,16 @@ int runRenderPath(const Argv& argv) {
     std::fprintf(stderr, "hlodr render: %s: %s\n", args->get("path", "").c_str(),
                  path.message().c_str());
     return 1;
+  }
+  if (segment.segmentCount > 1) {
+    segment.fps = *fps;
+    segment.maxFrames = args->has("frames") ? *frames : -1;
+    auto total = hlod::runFrameCount(*path, segment);
+    if (!total) return usageError("render", total.message());
+    if (segment.segmentCount > *total)
+      return usageError("render", "--segment: cannot split " + std::to_string(*total) +
+                                      " frames into " + std::to_string(segment.segmentCount) +
+                                      " segments");
   }
   if (!isStore(store))
     return usageError("render", store +
@@ -188,17 +211,9 @@ int runRenderPath(const Argv& argv) {
   ro.maxFrames = args->has("frames") ? *frames : -1;
   ro.prefetchSeconds = args->has("prefetch") ? 1.0 : 0.0;
   ro.mode = *mode == "settled" ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime;
-  if (auto seg = args->get("segment")) {
-    auto spec = hlod::parseSegment(*seg);
-    if (!spec) return usageError("render", spec.message());
-    ro.segmentIndex = spec->index;
-    ro.segmentCount = spec->count;
-  }
-  auto warmup = args->integer(get("warmup"));
-  if (!warmup) return usageError("render", warmup.message());
-  if (args->has("warmup") && !args->has("segment"))
-    return usageError("render", "--warmup is for a segment (--segment I/N)");
-  ro.warmupFrames = static_cast<std::uint64_t>(*warmup);
+  ro.segmentIndex = segment.segmentIndex;
+  ro.segmentCount = segment.segmentCount;
+  ro.warmupFrames = segment.warmupFrames;
   FileOutputs outputs;
   outputs.output = args->get("output", "");
   outputs.plots = args->has("plots");
