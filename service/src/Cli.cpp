@@ -31,6 +31,8 @@ const std::vector<Command>& commands() {
        cmd::kCalibrateUsage, cmd::runCalibrate},
       {"path", "write a camera path (walk-fly, drive, orbit) for a node store", cmd::kPathUsage,
        cmd::runPath},
+      {"concat", "join the segments of a split path run (render --segment) into one",
+       cmd::kConcatUsage, cmd::runConcat},
       {"study", "what accuracy costs in time: selectors and budgets against full detail",
        cmd::kStudyUsage, cmd::runStudy},
       {"study-build", "the simplifiers per level: distance to the original, triangles, time",

@@ -256,10 +256,23 @@ hlod::Result<FileRunResult> runPathToFiles(Session& session, const hlod::CameraP
   FileRunResult result;
   result.statsJson = statsDir / (prefix + "stats.json");
   result.statsCsv = statsDir / (prefix + "stats.csv");
-  const std::string extra = nlohmann::json{
-      {"session", nlohmann::json::parse(session.settingsJson())},
-      {"mode",
-       modeName(run.mode)}}.dump();
+  nlohmann::json extraJson = {{"session", nlohmann::json::parse(session.settingsJson())},
+                              {"mode", modeName(run.mode)},
+                              {"fps", run.fps}};
+  if (run.segmentCount > 1) {
+    // What `hlodr concat` checks before it joins the segments: which one, of how many frames.
+    auto total = hlod::runFrameCount(path, run);
+    if (!total) return total.error();
+    if (run.segmentIndex >= run.segmentCount || run.segmentCount > *total)
+      return hlod::makeError("cannot split " + std::to_string(*total) + " frames into " +
+                             std::to_string(run.segmentCount) + " segments");
+    const hlod::FrameRange r = hlod::segmentRange(*total, run.segmentIndex, run.segmentCount);
+    extraJson["segment"] = {
+        {"index", run.segmentIndex}, {"count", run.segmentCount},
+        {"firstFrame", r.first},     {"endFrame", r.end},
+        {"runFrames", *total},       {"warmupFrames", std::min(run.warmupFrames, r.first)}};
+  }
+  const std::string extra = extraJson.dump();
   auto stats =
       std::make_unique<hlod::StatsSink>(result.statsJson.string(), result.statsCsv.string(),
                                         outputs.plots ? (statsDir / prefix).string() : "", extra);

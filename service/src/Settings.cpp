@@ -107,6 +107,18 @@ std::vector<Setting> makeTable() {
       row("frames", "frames", "frames", K::Integer, 1, 1e8, "", "N",
           "render only the first N frames of the path (default: all)",
           std::string("render --path, ") + jobs),
+      row("segment", "segment", "", K::Text, 0, 0, "", "I/N",
+          "render only segment I (from 0) of N of the path's frames, numbered as in the whole "
+          "run, after a warm-up (docs/cli.md, Segments); join the parts with `hlodr concat`",
+          "render --path"),
+      row("warmup", "warmup", "", K::Integer, 0, 100000, "60", "W",
+          "with --segment: frames rendered (not written) before the segment's first, so that "
+          "the selector and the loader reach the state the whole run has there",
+          "render --path"),
+      row("segments", "", "segments", K::Integer, 1, 16, "1", "N",
+          "split the path's frames into N segments rendered as separate tasks on the job "
+          "workers (each with a warm-up), then joined: the job's files as for one run",
+          jobs),
       row("prefetch", "prefetch", "prefetch", K::Flag, 0, 0, "off", "",
           "prefetch what the path needs 1 s ahead", std::string("render --path, ") + jobs),
       row("video", "", "video", K::Flag, 0, 0, "off", "",

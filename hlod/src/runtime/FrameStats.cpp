@@ -4,7 +4,9 @@
 #include <cassert>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include <nlohmann/json.hpp>
 
@@ -266,6 +268,118 @@ std::string statsCsv(std::span<const FrameRecord> frames) {
     out << '\n';
   }
   return out.str();
+}
+
+namespace {
+
+// Reads back what frameObject wrote: the same names, so that a field added there and not here
+// shows in the round-trip test (FrameStatsTest), not as a silent zero in a joined run.
+Status readFrameObject(const nlohmann::json& j, FrameRecord& f) {
+  if (!j.is_object()) return makeError("a frame is not a JSON object");
+  Status bad = Ok{};
+  auto get = [&](const char* name, auto& field) {
+    auto it = j.find(name);
+    if (it == j.end() || !bad) return;
+    using T = std::decay_t<decltype(field)>;
+    if constexpr (std::is_same_v<T, bool>) {
+      if (it->is_number())
+        field = it->template get<double>() != 0.0;
+      else
+        bad = makeError(std::string("frame field ") + name + " is not a number");
+    } else if constexpr (std::is_floating_point_v<T>) {
+      if (it->is_number())
+        field = it->template get<double>();
+      else
+        bad = makeError(std::string("frame field ") + name + " is not a number");
+    } else {
+      if (it->is_number_unsigned() &&
+          it->template get<std::uint64_t>() <= std::numeric_limits<T>::max())
+        field = static_cast<T>(it->template get<std::uint64_t>());
+      else
+        bad = makeError(std::string("frame field ") + name + " is not a whole number in range");
+    }
+  };
+  get("index", f.index);
+  get("time", f.time);
+  get("targetMs", f.targetMs);
+  get("estimatedMs", f.estimatedMs);
+  get("gpuMs", f.gpuMs);
+  get("cpuMs", f.cpuMs);
+  get("selectorMs", f.selectorMs);
+  get("uploadMs", f.uploadMs);
+  get("drawMs", f.drawMs);
+  get("queryGpuMs", f.queryGpuMs);
+  get("shadowMs", f.shadowMs);
+  get("geometryMs", f.geometryMs);
+  get("skyMs", f.skyMs);
+  get("ssaoMs", f.ssaoMs);
+  get("ssaoBlurMs", f.ssaoBlurMs);
+  get("compositeMs", f.compositeMs);
+  get("outlineMs", f.outlineMs);
+  get("triangles", f.triangles);
+  get("upToggles", f.upToggles);
+  get("downToggles", f.downToggles);
+  get("vTime", f.vTime);
+  get("residentBytes", f.residentBytes);
+  get("capBytes", f.capBytes);
+  get("loadsStarted", f.loadsStarted);
+  get("loadsFinished", f.loadsFinished);
+  get("unloads", f.unloads);
+  get("loadErrors", f.loadErrors);
+  get("bytesRead", f.bytesRead);
+  get("cacheHits", f.cacheHits);
+  get("uploads", f.uploads);
+  get("uploadBytes", f.uploadBytes);
+  get("pendingUploads", f.pendingUploads);
+  get("coarserNotResident", f.coarserNotResident);
+  get("stalls", f.stalls);
+  get("partialNodes", f.partialNodes);
+  get("splatNodes", f.splatNodes);
+  get("splats", f.splats);
+  get("cellNodes", f.cellNodes);
+  get("occlusionMs", f.occlusionMs);
+  get("occlusion", f.occlusion);
+  get("occlusionQueries", f.occlusionQueries);
+  get("occludedNodes", f.occludedNodes);
+  get("occludedTriangles", f.occludedTriangles);
+  get("listIn", f.listIn);
+  get("listOut", f.listOut);
+  get("gpuBytes", f.gpuBytes);
+  get("gpuEvictions", f.gpuEvictions);
+  get("wallMs", f.wallMs);
+  get("refineMs", f.refineMs);
+  get("vertexSplits", f.vertexSplits);
+  get("edgeCollapses", f.edgeCollapses);
+  get("activeClusters", f.activeClusters);
+  get("errorBoundPx", f.errorBoundPx);
+  if (!bad) return bad;
+  if (auto it = j.find("nodesPerLevel"); it != j.end()) {
+    if (!it->is_array()) return makeError("frame field nodesPerLevel is not an array");
+    for (const auto& v : *it) {
+      if (!v.is_number_unsigned() || v.get<std::uint64_t>() > 0xffffffffu)
+        return makeError("frame field nodesPerLevel holds a value that is not a count");
+      f.nodesPerLevel.push_back(static_cast<std::uint32_t>(v.get<std::uint64_t>()));
+    }
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+Result<std::vector<FrameRecord>> parseStatsFrames(const std::string& text) {
+  const auto j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return makeError("not a JSON object");
+  auto it = j.find("frames");
+  if (it == j.end() || !it->is_array()) return makeError("no \"frames\" array");
+  std::vector<FrameRecord> frames;
+  frames.reserve(it->size());
+  for (std::size_t k = 0; k < it->size(); ++k) {
+    FrameRecord f;
+    if (auto s = readFrameObject((*it)[k], f); !s)
+      return makeError("frame " + std::to_string(k) + ": " + s.message());
+    frames.push_back(std::move(f));
+  }
+  return frames;
 }
 
 Status writeStatsJson(const std::string& path, std::span<const FrameRecord> frames,

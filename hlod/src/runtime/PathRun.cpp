@@ -10,6 +10,16 @@
 
 namespace hlod {
 
+Result<std::uint64_t> runFrameCount(const CameraPath& path, const PathRunOptions& options) {
+  if (!(options.fps > 0.0) || options.fps > 1000.0) return makeError("fps must be in (0, 1000]");
+  auto all = path.frameCount(options.fps, options.maxFrames >= 0
+                                              ? std::numeric_limits<std::uint64_t>::max()
+                                              : kMaxPathFrames);
+  if (!all) return all.error();
+  if (options.maxFrames >= 0) return std::min<std::uint64_t>(*all, options.maxFrames);
+  return *all;
+}
+
 Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
                               const PathRunOptions& options, std::span<FrameSink* const> sinks,
                               const std::atomic<bool>* cancel, const FrameCallback& onFrame) {
@@ -20,10 +30,25 @@ Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
                                               ? std::numeric_limits<std::uint64_t>::max()
                                               : kMaxPathFrames);
   if (!all) return all.error();
+  if (options.segmentCount == 0 || options.segmentIndex >= options.segmentCount ||
+      options.segmentCount > kMaxSegments)
+    return makeError("segment " + std::to_string(options.segmentIndex) + "/" +
+                     std::to_string(options.segmentCount) +
+                     ": need 0 <= i < N <= " + std::to_string(kMaxSegments));
   PathRunResult result;
-  result.framesTotal = *all;
-  if (options.maxFrames >= 0)
-    result.framesTotal = std::min<std::uint64_t>(result.framesTotal, options.maxFrames);
+  auto runFrames = runFrameCount(path, options);
+  if (!runFrames) return runFrames.error();
+  result.runFrames = *runFrames;
+  if (options.segmentCount > result.runFrames && options.segmentCount > 1)
+    return makeError("cannot split " + std::to_string(result.runFrames) + " frames into " +
+                     std::to_string(options.segmentCount) + " segments");
+  const FrameRange range =
+      segmentRange(result.runFrames, options.segmentIndex, options.segmentCount);
+  const bool split = options.segmentCount > 1;
+  result.firstFrame = range.first;
+  result.endFrame = range.end;
+  result.framesTotal = range.end - range.first;
+  result.warmupFrames = split ? std::min(options.warmupFrames, range.first) : 0;
 
   const FrameDriverOptions& fo = driver.options();
   const double aspect = static_cast<double>(fo.width) / fo.height;
@@ -43,7 +68,24 @@ Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
           : 0;
 
   Status failure = Ok{};
-  for (std::uint64_t i = 0; i < result.framesTotal; ++i) {
+  // The warm-up: the frames before the segment, drawn as the whole run draws them, so that the
+  // selector's state (v_time, hysteresis counters, last front) and the residency arrive at the
+  // segment's first frame as they would; nothing of them is written.
+  for (std::uint64_t i = range.first - result.warmupFrames; i < range.first; ++i) {
+    if (cancel && cancel->load()) {
+      result.cancelled = true;
+      break;
+    }
+    const CameraSample sample = sampleOf(i);
+    CameraSample look;
+    if (ahead > 0) look = sampleOf(std::min(i + ahead, *all - 1));
+    auto rec = driver.renderFrame(sample, options.mode, ahead > 0 ? &look : nullptr);
+    if (!rec) {
+      failure = makeError("warm-up frame " + std::to_string(i) + ": " + rec.message());
+      break;
+    }
+  }
+  for (std::uint64_t i = range.first; failure && !result.cancelled && i < range.end; ++i) {
     if (cancel && cancel->load()) {
       result.cancelled = true;
       break;
@@ -56,6 +98,8 @@ Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
       failure = makeError("frame " + std::to_string(i) + ": " + rec.message());
       break;
     }
+    // The whole run's frame number (the driver counts the warm-up's frames too).
+    if (split) rec->index = i;
     // The timeline's readback and encode (the sinks that take pixels) are timed here, and the
     // sinks that take pixels go first, so that the others see the whole frame's timeline.
     LinkClock& clock = driver.loader().clock();

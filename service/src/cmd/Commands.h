@@ -54,6 +54,9 @@ int runSwitch(const Argv& args);
 extern const char* const kServeUsage;
 int runServe(const Argv& args);
 
+extern const char* const kConcatUsage;
+int runConcat(const Argv& args);
+
 extern const char* const kPathUsage;
 int runPath(const Argv& args);
 // `hlodr render STORE --path PATH.json`: a camera path through a Session (PathCommand.cpp).

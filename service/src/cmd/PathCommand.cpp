@@ -12,6 +12,7 @@
 #include "cmd/SessionArgs.h"
 #include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/Framing.h"
+#include "hlod/runtime/Segments.h"
 #include "hlod/store/NodeStore.h"
 #include "service/Args.h"
 #include "service/Progress.h"
@@ -102,8 +103,9 @@ int runPath(const Argv& argv) {
 }
 
 const std::set<std::string> kPathRunOptions = {
-    "budget-ms", "selector",  "mode",   "memory-mb",   "fps",    "io-mbps",   "io-latency-ms",
-    "frames",    "upload-ms", "params", "io-requests", "splats", "occlusion", "gpu-mb"};
+    "budget-ms",     "selector", "mode",      "memory-mb", "fps",         "io-mbps",
+    "io-latency-ms", "frames",   "upload-ms", "params",    "io-requests", "splats",
+    "occlusion",     "gpu-mb",   "segment",   "warmup"};
 const std::set<std::string> kPathRunFlags = {"prefetch", "plots", "show-occlusion"};
 
 hlod::Result<Args> parseWithPathRun(const Argv& argv, std::set<std::string> flags,
@@ -149,6 +151,19 @@ int runRenderPath(const Argv& argv) {
   so.uploadBudgetMs = *uploadMs;
   auto mode = args->choice(get("mode"));
   if (!mode) return usageError("render", mode.message());
+  // Checked before the store opens and the session starts (seconds on a large store).
+  hlod::PathRunOptions segment;
+  if (auto seg = args->get("segment")) {
+    auto spec = hlod::parseSegment(*seg);
+    if (!spec) return usageError("render", spec.message());
+    segment.segmentIndex = spec->index;
+    segment.segmentCount = spec->count;
+  }
+  auto warmup = args->integer(get("warmup"));
+  if (!warmup) return usageError("render", warmup.message());
+  if (args->has("warmup") && !args->has("segment"))
+    return usageError("render", "--warmup is for a segment (--segment I/N)");
+  segment.warmupFrames = static_cast<std::uint64_t>(*warmup);
   so.effects = declared->scene.effects;
   auto backend = renderer::backendFromEnvironment();
   if (!backend) return usageError("render", backend.message());
@@ -158,6 +173,16 @@ int runRenderPath(const Argv& argv) {
     std::fprintf(stderr, "hlodr render: %s: %s\n", args->get("path", "").c_str(),
                  path.message().c_str());
     return 1;
+  }
+  if (segment.segmentCount > 1) {
+    segment.fps = *fps;
+    segment.maxFrames = args->has("frames") ? *frames : -1;
+    auto total = hlod::runFrameCount(*path, segment);
+    if (!total) return usageError("render", total.message());
+    if (segment.segmentCount > *total)
+      return usageError("render", "--segment: cannot split " + std::to_string(*total) +
+                                      " frames into " + std::to_string(segment.segmentCount) +
+                                      " segments");
   }
   if (!isStore(store))
     return usageError("render", store +
@@ -186,6 +211,9 @@ int runRenderPath(const Argv& argv) {
   ro.maxFrames = args->has("frames") ? *frames : -1;
   ro.prefetchSeconds = args->has("prefetch") ? 1.0 : 0.0;
   ro.mode = *mode == "settled" ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime;
+  ro.segmentIndex = segment.segmentIndex;
+  ro.segmentCount = segment.segmentCount;
+  ro.warmupFrames = segment.warmupFrames;
   FileOutputs outputs;
   outputs.output = args->get("output", "");
   outputs.plots = args->has("plots");
@@ -222,6 +250,13 @@ int runRenderPath(const Argv& argv) {
   if (s.capBytes > 0) std::printf(" of cap %.1f MB (%.2f)", s.capBytes / 1048576.0, s.peakOverCap);
   std::printf("\nstats: %s\n", result->statsJson.string().c_str());
   if (!outputs.trace.empty()) std::printf("trace: %s\n", outputs.trace.string().c_str());
+  if (ro.segmentCount > 1)
+    std::printf("segment %u/%u: frames %llu..%llu of %llu, after %llu warm-up frames\n",
+                ro.segmentIndex, ro.segmentCount,
+                static_cast<unsigned long long>(result->run.firstFrame),
+                static_cast<unsigned long long>(result->run.endFrame - 1),
+                static_cast<unsigned long long>(result->run.runFrames),
+                static_cast<unsigned long long>(result->run.warmupFrames));
   for (const auto& p : result->plots) std::printf("plot: %s\n", p.string().c_str());
   return failure.empty() ? 0 : 1;
 }

@@ -78,6 +78,8 @@ const char* const kRenderUsage =
     "{size}\n"
     "{fps}\n"
     "{frames}\n"
+    "{segment}\n"
+    "{warmup}\n"
     "{memoryMb}\n"
     "{ioMbps}\n"
     "{ioLatencyMs}\n"

@@ -20,7 +20,7 @@ int runRenderStoreFrame(const Argv& argv) {
   if (!args) return usageError("render", args.message());
   // What only a path run or a model file takes means nothing here: said, not ignored.
   for (const char* o : {"fps", "frames", "io-mbps", "io-latency-ms", "io-requests", "upload-ms",
-                        "prefetch", "plots"})
+                        "prefetch", "plots", "segment", "warmup"})
     if (args->has(o))
       return usageError("render", std::string("--") + o + " is for a path (--path)");
   for (const char* o : {"up", "lod"})

@@ -9,10 +9,12 @@
 #include "hlod/AtomicFile.h"
 #include "hlod/runtime/Framing.h"
 #include "hlod/runtime/PathRun.h"
+#include "hlod/runtime/Segments.h"
 #include "hlod/tiles/TilesetExport.h"
 #include "renderer/VideoWriter.h"
 #include "server/SessionManager.h"
 #include "service/ChromeTrace.h"
+#include "service/SegmentJoin.h"
 
 namespace service::server {
 
@@ -82,6 +84,16 @@ class JobSink final : public hlod::FrameSink {
 
 }  // namespace
 
+// What the segments of a split job share; the last one to end joins them.
+struct JobManager::SplitRun {
+  std::mutex mutex;
+  std::uint32_t left = 0;
+  bool started = false;
+  bool cancelled = false;
+  std::string error;        // the first segment's failure
+  std::string sessionJson;  // the settings the stats record (as an unsplit job's)
+};
+
 std::time_t Job::createdTime() const {
   return parseUtc(createdAt);
 }
@@ -135,8 +147,19 @@ fs::path Job::reportFile(const std::string& name) const {
 void Job::addFrame(const hlod::FrameRecord& r) {
   {
     std::lock_guard lock(mutex_);
+    if (settings.segments > 1 && r.index != records_.size()) {
+      waiting_.emplace(r.index, r);
+      return;
+    }
     records_.push_back(r);
     frameJson_.push_back(hlod::frameJson(r));
+    // The frames of the next segment that were waiting for this one.
+    for (auto it = waiting_.find(records_.size()); it != waiting_.end();
+         it = waiting_.find(records_.size())) {
+      records_.push_back(it->second);
+      frameJson_.push_back(hlod::frameJson(it->second));
+      waiting_.erase(it);
+    }
   }
   cv_.notify_all();
 }
@@ -200,6 +223,7 @@ nlohmann::json Job::jsonLocked() const {
   settingsJson["fps"] = settings.fps;
   settingsJson["video"] = settings.video;
   settingsJson["prefetch"] = settings.prefetch;
+  if (settings.segments > 1) settingsJson["segments"] = settings.segments;
   settingsJson["path"] = settings.path.json();
   if (kind == "study") {
     nlohmann::json j = progressJson();
@@ -226,7 +250,8 @@ nlohmann::json Job::jsonLocked() const {
       {"state", jobStateName(state_)},
       {"framesDone", records_.size()},
       {"framesTotal", framesTotal},
-      {"progress", framesTotal ? double(records_.size()) / double(framesTotal) : 0.0},
+      {"progress",
+       framesTotal ? double(records_.size() + waiting_.size()) / double(framesTotal) : 0.0},
       {"createdAt", createdAt},
       {"settings", settingsJson},
       {"summary", nlohmann::json::parse(hlod::summaryJson(hlod::summarize(records_)))},
@@ -254,6 +279,27 @@ std::string Job::statsCsv() const {
   return hlod::statsCsv(records_);
 }
 
+std::vector<TraceRun> Job::traceRuns(std::span<const hlod::FrameRecord> frames) const {
+  // A split job's segments ran in sessions of their own, each on its own clock: one process of
+  // the trace each.
+  std::vector<TraceRun> runs;
+  const std::uint32_t n = std::max<std::uint32_t>(1, settings.segments);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const hlod::FrameRange r = hlod::segmentRange(framesTotal, i, n);
+    const auto first = std::lower_bound(
+        frames.begin(), frames.end(), r.first,
+        [](const hlod::FrameRecord& f, std::uint64_t at) { return f.index < at; });
+    const auto end = std::lower_bound(
+        first, frames.end(), r.end,
+        [](const hlod::FrameRecord& f, std::uint64_t at) { return f.index < at; });
+    if (first == end && n > 1) continue;
+    const std::string name =
+        "job " + id + (n > 1 ? " segment " + std::to_string(i) + "/" + std::to_string(n) : "");
+    runs.push_back({name, std::span<const hlod::FrameRecord>(first, end), settings.render.json()});
+  }
+  return runs;
+}
+
 std::optional<std::string> Job::traceJson() const {
   std::lock_guard lock(mutex_);
   if (recorded_) {
@@ -262,8 +308,7 @@ std::optional<std::string> Job::traceJson() const {
     return text;
   }
   if (records_.empty()) return std::nullopt;
-  const TraceRun run{"job " + id, records_, settings.render.json()};
-  return chromeTrace(std::span<const TraceRun>(&run, 1)).dump();
+  return chromeTrace(traceRuns(records_)).dump();
 }
 
 fs::path Job::framePath(std::uint64_t n) const {
@@ -448,6 +493,10 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
                       std::to_string(limits_.maxFrames) + " (give \"frames\" or a lower fps)");
   if (settings.video && (settings.render.width % 2 || settings.render.height % 2))
     return badRequest("video: an MP4 needs an even width and height");
+  if (settings.segments < 1 || settings.segments > total)
+    return badRequest("segments: " + std::to_string(settings.segments) + " segments of " +
+                      std::to_string(total) + " frames; give 1.." +
+                      std::to_string(std::max<std::uint64_t>(total, 1)));
   auto made = std::make_shared<Job>();
   made->kind = "path";
   made->scene = scene;
@@ -457,6 +506,18 @@ ApiResult<nlohmann::json> JobManager::submit(const std::shared_ptr<Scene>& scene
   if (!admitted) return admitted.error();
   std::shared_ptr<Job> job = *admitted;
   std::shared_ptr<const hlod::CameraPath> shared = *path;
+  if (job->settings.segments > 1) {
+    // Each segment a task of its own, on the least busy runner: with several runners they
+    // render side by side (taking turns at GL with everything else, RenderWorker::yieldGl).
+    auto run = std::make_shared<SplitRun>();
+    run->left = job->settings.segments;
+    for (std::uint32_t i = 0; i < job->settings.segments; ++i)
+      leastBusyRunner()->post([this, job, shared, i, run](renderer::GlContext& gl) {
+        runPathSegment(job, *shared, gl, i, run);
+      });
+    expire();
+    return job->json();
+  }
   leastBusyRunner()->post([this, job, shared](renderer::GlContext& gl) {
     if (job->cancel) {
       job->setState(JobState::Cancelled);
@@ -607,6 +668,97 @@ void JobManager::runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraP
     job->videoReady_ = job->settings.video && ran->framesRendered > 0;
     job->setState(ran->cancelled ? JobState::Cancelled : JobState::Done);
   }
+}
+
+void JobManager::runPathSegment(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
+                                renderer::GlContext& gl, std::uint32_t index,
+                                const std::shared_ptr<SplitRun>& run) {
+  auto end = [&](const std::string& error, bool cancelled) {
+    bool last = false;
+    {
+      std::lock_guard lock(run->mutex);
+      if (!error.empty() && run->error.empty()) run->error = error;
+      run->cancelled = run->cancelled || cancelled;
+      last = --run->left == 0;
+    }
+    if (!error.empty()) job->cancel = true;  // the others stop: the job has failed
+    if (last) joinSplitJob(*job, *run);
+  };
+  if (job->cancel) return end("", true);
+  {
+    std::lock_guard lock(run->mutex);
+    if (!run->started) job->setState(JobState::Running);
+    run->started = true;
+  }
+  auto session = openSession(*job->scene, job->settings.render, gl, scenes_.cache());
+  if (!session) return end(session.message(), false);
+  {
+    std::lock_guard lock(run->mutex);
+    if (run->sessionJson.empty()) run->sessionJson = (*session)->settingsJson();
+  }
+  std::vector<std::unique_ptr<hlod::FrameSink>> sinks;
+  // Frames are named by their number in the whole run: the segments share the folder.
+  sinks.push_back(std::make_unique<renderer::ImageSequenceSink>(job->dir / "frames", "jpg", 85));
+  if (job->settings.video) {
+    auto v = renderer::VideoWriter::open(job->dir / ("segment-" + std::to_string(index) + ".mp4"),
+                                         job->settings.render.width, job->settings.render.height,
+                                         job->settings.fps);
+    if (!v) {
+      session->reset();
+      return end(v.message(), false);
+    }
+    sinks.push_back(std::make_unique<renderer::VideoSink>(std::move(*v)));
+  }
+  sinks.push_back(std::make_unique<JobSink>(*job, metrics_));
+  std::vector<hlod::FrameSink*> list;
+  for (auto& s : sinks) list.push_back(s.get());
+  hlod::PathRunOptions o;
+  o.fps = job->settings.fps;
+  o.maxFrames = static_cast<long long>(job->framesTotal);
+  o.mode = job->settings.mode;
+  o.prefetchSeconds = job->settings.prefetch ? 1.0 : 0.0;
+  o.segmentIndex = index;
+  o.segmentCount = job->settings.segments;
+  auto ran = hlod::runPath((*session)->driver(), path, o, list, &job->cancel);
+  job->scene->rememberTiming(job->settings.render.width, job->settings.render.height,
+                             (*session)->driver().timing());
+  session->reset();  // on this thread, with its context current
+  if (!ran) return end(ran.message(), false);
+  end("", ran->cancelled);
+}
+
+void JobManager::joinSplitJob(Job& job, SplitRun& run) {
+  // The stats as an unsplit job writes them, from the frames in order.
+  std::vector<hlod::FrameRecord> frames;
+  {
+    std::lock_guard lock(job.mutex_);
+    frames = job.records_;
+  }
+  const std::string extra = run.sessionJson.empty() ? "" : "{\"session\":" + run.sessionJson + "}";
+  std::string error = run.error;
+  if (auto s = hlod::writeStatsJson((job.dir / "stats.json").string(), frames,
+                                    hlod::summarize(frames), extra);
+      !s && error.empty())
+    error = s.message();
+  if (auto s = hlod::writeStatsCsv((job.dir / "stats.csv").string(), frames); !s && error.empty())
+    error = s.message();
+  if (auto s = writeChromeTrace((job.dir / "trace.json").string(), job.traceRuns(frames));
+      !s && error.empty())
+    error = s.message();
+  std::vector<fs::path> videos;
+  for (std::uint32_t i = 0; i < job.settings.segments; ++i)
+    videos.push_back(job.dir / ("segment-" + std::to_string(i) + ".mp4"));
+  const bool complete = error.empty() && !run.cancelled && frames.size() == job.framesTotal;
+  if (job.settings.video && complete) {
+    if (auto s = concatVideos(videos, job.videoPath()); !s) error = s.message();
+    job.videoReady_ = error.empty();
+  }
+  std::error_code ec;
+  for (const fs::path& v : videos) fs::remove(v, ec);
+  if (!error.empty())
+    job.setState(JobState::Failed, error);
+  else
+    job.setState(complete ? JobState::Done : JobState::Cancelled);
 }
 
 std::vector<std::shared_ptr<Job>> JobManager::list() const {

@@ -20,6 +20,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,7 @@
 #include "server/Metrics.h"
 #include "server/RenderWorker.h"
 #include "server/SceneRegistry.h"
+#include "service/ChromeTrace.h"
 #include "service/Study.h"
 
 namespace service::server {
@@ -44,6 +46,7 @@ struct JobSettings {
   long long frames = -1;  // render only the first N; < 0: all
   bool video = false;
   bool prefetch = false;
+  std::uint32_t segments = 1;  // > 1: rendered as that many tasks on the runners, then joined
   PathSpec path;
 };
 
@@ -87,6 +90,8 @@ class Job {
   // The frames so far as Chrome Trace Event JSON (service/ChromeTrace.h); nullopt before the
   // first frame (a restored job: its trace.json, written when it ended).
   std::optional<std::string> traceJson() const;
+  // The trace's runs of these frames (in order): the job, or each segment of a split job.
+  std::vector<TraceRun> traceRuns(std::span<const hlod::FrameRecord> frames) const;
   std::filesystem::path framePath(std::uint64_t n) const;  // empty while not rendered
   std::filesystem::path videoPath() const;
   // The MP4 is closed and holds frames: the job is done, or was cancelled after its first frame.
@@ -100,6 +105,8 @@ class Job {
 
   // The runner's side.
   void setState(JobState s, const std::string& error = "");
+  // Frames come in the order of their index: a split job's segments render side by side, and
+  // a frame whose turn has not come waits (counted in the progress, not yet in framesDone).
   void addFrame(const hlod::FrameRecord& r);
   // Studies: how far along (0..1) and what they do now.
   void setProgress(double fraction, const std::string& what);
@@ -124,6 +131,7 @@ class Job {
   std::string error_;
   std::vector<hlod::FrameRecord> records_;
   std::vector<std::string> frameJson_;
+  std::map<std::uint64_t, hlod::FrameRecord> waiting_;  // a split job's frames ahead of their turn
   double progress_ = 0.0;
   std::string doing_;
   std::atomic<bool> videoReady_{false};
@@ -166,6 +174,12 @@ class JobManager {
  private:
   void runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
                   renderer::GlContext& context);
+  struct SplitRun;
+  // One segment of a split job ("segments": N); the last one to end joins them.
+  void runPathSegment(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
+                      renderer::GlContext& context, std::uint32_t index,
+                      const std::shared_ptr<SplitRun>& run);
+  void joinSplitJob(Job& job, SplitRun& run);
   static void runExportJob(Job& job);
   void restoreAll();
   // Gives the job its id and folder and publishes it; 429 past --max-jobs.

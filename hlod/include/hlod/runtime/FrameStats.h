@@ -170,6 +170,10 @@ std::string summaryJson(const FrameSummary& summary);
 std::string statsJson(std::span<const FrameRecord> frames, const FrameSummary& summary,
                       const std::string& extra = "");
 std::string statsCsv(std::span<const FrameRecord> frames);
+// The frames of a stats.json text (its "frames" array, every field of FrameRecord read back as
+// statsJson wrote it; a field missing stays at its default), or an Error for text that is not
+// such a file.
+Result<std::vector<FrameRecord>> parseStatsFrames(const std::string& statsJsonText);
 Status writeStatsJson(const std::string& path, std::span<const FrameRecord> frames,
                       const FrameSummary& summary, const std::string& extra = "");
 Status writeStatsCsv(const std::string& path, std::span<const FrameRecord> frames);

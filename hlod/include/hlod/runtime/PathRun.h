@@ -11,6 +11,7 @@
 #include "hlod/runtime/CameraPath.h"
 #include "hlod/runtime/FrameDriver.h"
 #include "hlod/runtime/FrameStats.h"
+#include "hlod/runtime/Segments.h"
 
 namespace hlod {
 
@@ -32,11 +33,23 @@ struct PathRunOptions {
   long long maxFrames = -1;      // render only the first N frames; < 0: all
   double prefetchSeconds = 0.0;  // > 0: prefetch the selection this far ahead on the path
   FrameMode mode = FrameMode::Realtime;
+  // A segment of the run (`--segment i/N`): of the F frames (after maxFrames), only frames
+  // [i*F/N, (i+1)*F/N) go to the sinks, numbered as in the whole run. Before the first one, up
+  // to warmupFrames earlier frames are rendered for the selector's, the hysteresis' and the
+  // loader's state only (no sink, no callback). segmentCount 1: the whole run, no warm-up.
+  static constexpr std::uint64_t kDefaultWarmupFrames = 60;
+  std::uint32_t segmentIndex = 0;
+  std::uint32_t segmentCount = 1;
+  std::uint64_t warmupFrames = kDefaultWarmupFrames;
 };
 
 struct PathRunResult {
-  std::uint64_t framesRendered = 0;
-  std::uint64_t framesTotal = 0;  // of the path (after maxFrames)
+  std::uint64_t framesRendered = 0;  // of the segment (the whole run when not split)
+  std::uint64_t framesTotal = 0;     // of the segment: end - first
+  std::uint64_t firstFrame = 0;      // the segment's frames: [firstFrame, endFrame)
+  std::uint64_t endFrame = 0;
+  std::uint64_t runFrames = 0;     // of the whole run (path after maxFrames)
+  std::uint64_t warmupFrames = 0;  // rendered before firstFrame, not written
   bool cancelled = false;
 };
 
@@ -44,9 +57,12 @@ struct PathRunResult {
 using FrameCallback =
     std::function<void(const FrameRecord& record, std::uint64_t done, std::uint64_t total)>;
 
-// Runs the path's frames through the driver. A set cancel flag stops the run after the current
-// frame (result.cancelled). Every sink's finish() runs whatever happened; the first Error
-// (frame, sink or finish) is returned.
+// The frames of the whole run: the path's at options.fps, at most options.maxFrames.
+Result<std::uint64_t> runFrameCount(const CameraPath& path, const PathRunOptions& options);
+
+// Runs the path's frames (or a segment's) through the driver. A set cancel flag stops the run after
+// the current frame (result.cancelled). Every sink's finish() runs whatever happened; the first
+// Error (frame, sink or finish) is returned.
 Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
                               const PathRunOptions& options, std::span<FrameSink* const> sinks,
                               const std::atomic<bool>* cancel = nullptr,

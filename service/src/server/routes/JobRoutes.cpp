@@ -127,7 +127,7 @@ void installJobRoutes(httplib::Server& http, ApiContext& api) {
   http.Post("/api/jobs", [&](const Request& req, Response& res) {
     if (!jsonBody(req, res)) return;
     std::set<std::string> fields = renderSettingFields();
-    fields.insert({"scene", "path", "fps", "mode", "video", "frames", "prefetch"});
+    fields.insert({"scene", "path", "fps", "mode", "video", "frames", "prefetch", "segments"});
     auto in = JsonInput::parse(req.body, fields);
     if (!in) return sendError(res, badRequest(in.message()));
     auto choice = readSceneChoice(in->json().value("scene", nlohmann::json()), api.scenes);
@@ -144,6 +144,8 @@ void installJobRoutes(httplib::Server& http, ApiContext& api) {
     auto video = in->boolean(get("video"));
     auto frames = in->integer(get("frames"));
     auto prefetch = in->boolean(get("prefetch"));
+    auto segments = in->integer(get("segments"));
+    if (!segments) return sendError(res, badRequest(segments.message()));
     if (!fps) return sendError(res, badRequest(fps.message()));
     if (!mode) return sendError(res, badRequest(mode.message()));
     if (!video) return sendError(res, badRequest(video.message()));
@@ -154,6 +156,7 @@ void installJobRoutes(httplib::Server& http, ApiContext& api) {
     s.video = *video;
     s.frames = in->has("frames") ? *frames : -1;
     s.prefetch = *prefetch;
+    s.segments = static_cast<std::uint32_t>(*segments);
     auto spec = readPathSpec(*in);
     if (!spec) return sendError(res, spec.error());
     s.path = *spec;
