@@ -60,12 +60,14 @@ for i in $(seq 1 "$servers"); do
   echo "s$i $! $sport" >> "$run/servers"
 done
 
+# True once 127.0.0.1:$1 answers /healthz with "ok" (bash's /dev/tcp: no curl needed).
+healthy() {
+  bash -c "exec 3<>/dev/tcp/127.0.0.1/$1 && printf 'GET /healthz HTTP/1.0\r\n\r\n' >&3 && grep -q '\"ok\"' <&3" 2>/dev/null
+}
+
 # Each server answers /healthz once it has opened its stores.
 for i in $(seq 1 "$servers"); do
-  for _ in $(seq 1 600); do
-    if bash -c "exec 3<>/dev/tcp/127.0.0.1/$((port + i)) && printf 'GET /healthz HTTP/1.0\r\n\r\n' >&3 && grep -q '\"ok\"' <&3" 2>/dev/null; then
-      break
-    fi
+  until healthy $((port + i)); do
     kill -0 "${pids[$((i - 1))]}" 2>/dev/null || { echo "loopback.sh: server s$i exited (see $run/s$i.log)" >&2; stop_all; }
     sleep 0.1
   done
@@ -74,5 +76,9 @@ done
 HLODR_LB_BIND="127.0.0.1:$port" haproxy -db -f "$run/haproxy.cfg" > "$run/haproxy.log" 2>&1 &
 lb=$!
 echo "haproxy $lb $port" >> "$run/servers"
+until healthy "$port"; do
+  kill -0 "$lb" 2>/dev/null || { echo "loopback.sh: haproxy exited (see $run/haproxy.log)" >&2; stop_all; }
+  sleep 0.1
+done
 echo "ready: http://127.0.0.1:$port/ ($servers servers, run folder $run)"
 wait

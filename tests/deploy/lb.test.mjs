@@ -37,6 +37,7 @@ function skip(why) {
 if (spawnSync('haproxy', ['-v'], { stdio: 'ignore' }).status !== 0) skip('haproxy is not installed');
 if (!fs.existsSync(HLODR)) skip(`${HLODR} not built`);
 
+let killedAt = Infinity; // when the server was killed (performance.now())
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 const failures = [];
 function check(ok, what) {
@@ -146,7 +147,7 @@ class Client {
         }
       } catch (e) {
         this.lost++;
-        this.errors.push(`${e.status} ${e.message}`);
+        this.errors.push(`${(performance.now() - killedAt).toFixed(0)} ms after the kill: ${e.status} ${e.message}`);
         await sleep(100);
       }
     }
@@ -230,7 +231,7 @@ try {
   const victim = servers.reduce((a, b) => (placement.get(b).length > placement.get(a).length ? b : a));
   const hit = placement.get(victim);
   check(hit.length > 0, `the killed server ${victim.name} held sessions (${hit.length})`);
-  const killedAt = performance.now();
+  killedAt = performance.now();
   process.kill(victim.pid, 'SIGKILL');
   await sleep(AFTER_KILL_MS);
   clients.forEach((c) => (c.stopped = true));
