@@ -163,10 +163,12 @@ ApiResult<nlohmann::json> SessionManager::create(const std::shared_ptr<Scene>& s
                           "idle ones to expire"};
     if (!id.empty() && live_.count(id))
       return ApiError{409, "conflict", "session id " + id + " is in use"};
-    if (!id.empty()) live->id = id;
-    else
+    if (!id.empty()) {
+      live->id = id;
+    } else {
       do live->id = newId('s');
       while (live_.count(live->id));
+    }
     live->scene = scene;
     live->settings = settings;
     live->worker = leastBusyWorker();

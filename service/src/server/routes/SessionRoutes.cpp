@@ -24,10 +24,10 @@ void installSessionRoutes(httplib::Server& http, ApiContext& api) {
     if (in->has("id")) {
       const auto& v = in->json()["id"];
       if (v.is_string()) id = v.get<std::string>();
-      const bool ok = id.size() >= 8 && id.size() <= 64 &&
-                      std::all_of(id.begin(), id.end(), [](char c) {
-                        return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
-                      });
+      const bool ok =
+          id.size() >= 8 && id.size() <= 64 && std::all_of(id.begin(), id.end(), [](char c) {
+            return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
+          });
       if (!ok)
         return sendError(res, badRequest("id: must be 8..64 characters of A-Z, a-z, 0-9, - and _"));
     }
