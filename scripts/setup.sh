@@ -15,12 +15,12 @@ packages=(
   ffmpeg
 )
 # What only the tests and benchmarks use (skipped by --build-only, as the image's build stage
-# does): promtool, the load generator, the browser, and clang with its sanitizer and libFuzzer
+# does): promtool, the load balancer of the deploy test (haproxy), the load generator, the browser, and clang with its sanitizer and libFuzzer
 # runtimes (libclang-rt-14-dev) for the sanitizer build and the fuzz targets. The browser test
 # needs node and npm too; Debian's npm conflicts with a Node installed another way, so both come
 # from Debian only when there is no npm at all.
 if [ "${1:-}" != "--build-only" ]; then
-  packages+=(prometheus wrk curl chromium clang libclang-rt-14-dev)
+  packages+=(prometheus haproxy wrk curl chromium clang libclang-rt-14-dev)
   command -v npm >/dev/null || packages+=(nodejs npm)
 fi
 

@@ -28,6 +28,13 @@ async function errorFrom(response) {
   return new ApiError(response.status, code, message, retryAfterS);
 }
 
+// Where the API is: the page's own origin (''), or for a client outside a browser (the load
+// balancer test) an absolute URL set with setApiBase.
+let apiBase = '';
+export function setApiBase(url) {
+  apiBase = url.replace(/\/$/, '');
+}
+
 async function send(method, path, body) {
   const init = { method, headers: {} };
   if (body !== undefined) {
@@ -36,9 +43,10 @@ async function send(method, path, body) {
   }
   let response;
   try {
-    response = await fetch(path, init);
+    response = await fetch(apiBase + path, init);
   } catch (e) {
-    throw new ApiError(0, 'network', `cannot reach the hlodr server (${method} ${path}): ${e.message}`);
+    const why = e.cause && e.cause.code ? ` (${e.cause.code})` : ''; // node's fetch: ECONNRESET, ...
+    throw new ApiError(0, 'network', `cannot reach the hlodr server (${method} ${path}): ${e.message}${why}`);
   }
   if (!response.ok) throw await errorFrom(response);
   return response;

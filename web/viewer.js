@@ -11,6 +11,7 @@
 import { api } from './api.js';
 import { OrbitCamera } from './camera.js';
 import { el, formatCount, formatMs } from './dom.js';
+import { frameOrReopen, newSessionId } from './recovery.js';
 
 const REST_MS = 300;
 const JPEG_QUALITY = { moving: 60, still: 90 };
@@ -118,6 +119,7 @@ export class Viewer {
   async openSession(generation) {
     const s = this.settings;
     const session = await api.createSession({
+      id: newSessionId(), // a load balancer routes by it (docs/deploy.md)
       scene: this.sceneFile || this.scene.id,
       width: s.width,
       height: s.height,
@@ -145,26 +147,25 @@ export class Viewer {
   async requestFrame(still) {
     const generation = this.generation;
     try {
-      if (!this.session && !(await this.openSession(generation))) return;
-      // The camera is read once the session is open: a new one may have just set it.
-      const body = {
-        camera: this.camera.toApi(),
-        still,
-        format: 'jpeg',
-        quality: still ? JPEG_QUALITY.still : JPEG_QUALITY.moving,
-      };
-      let frame;
-      try {
-        frame = await api.sessionFrame(this.session.id, body);
-      } catch (e) {
-        // An idle session expires (404): open a new one once and ask again.
-        if (e.status !== 404 || generation !== this.generation) throw e;
-        this.session = null;
-        if (!(await this.openSession(generation))) return;
-        frame = await api.sessionFrame(this.session.id, body);
-      }
-      if (generation !== this.generation) return;
-      await this.show(frame, still);
+      // A session that expired (404) or was lost with its server (404, 502, the balancer's 503)
+      // is opened again with the same settings, and the frame asked for the same camera.
+      const answer = await frameOrReopen(
+        this.session,
+        async () => {
+          this.session = null;
+          return (await this.openSession(generation)) ? this.session : null;
+        },
+        (session) =>
+          // The camera is read once the session is open: a new one may have just set it.
+          api.sessionFrame(session.id, {
+            camera: this.camera.toApi(),
+            still,
+            format: 'jpeg',
+            quality: still ? JPEG_QUALITY.still : JPEG_QUALITY.moving,
+          }),
+      );
+      if (!answer || generation !== this.generation) return;
+      await this.show(answer.frame, still);
       this.onRecovered('frame');
     } catch (e) {
       if (generation !== this.generation) return;

@@ -223,6 +223,10 @@ std::vector<Setting> makeTable() {
           "open connections of one client address; past it 503, except /healthz and /metrics "
           "(0: no cap; behind a proxy, every client has the proxy's address)",
           "serve"),
+      row("serve.drainS", "drain-s", "", K::Integer, 0, 3600, "0", "S",
+          "on SIGTERM, answer /healthz with 503 for S seconds (a load balancer moves new sessions "
+          "away; current ones are still served) before stopping; a second signal stops at once",
+          "serve"),
       row("serve.keepJobsDays", "keep-jobs-days", "", K::Number, 0, 36500, "7", "D",
           "finished jobs older than D days are removed with their files (0: kept)", "serve"),
       row("serve.jobsMaxMb", "jobs-max-mb", "", K::Number, 0, 1e9, "10240", "MB",

@@ -680,3 +680,33 @@ TEST_F(ServerTest, AFailingRenderIsA500WithAMessageAndTheServerKeepsServing) {
   EXPECT_EQ(client().Get("/healthz")->status, 200);
   fs::remove_all(bad);
 }
+
+// A load balancer hashes the session id (docs/deploy.md): the client may propose it.
+TEST_F(ServerTest, ASessionTakesTheIdItsClientProposesAndRefusesABadOrTakenOne) {
+  start();
+  auto made = post("/api/sessions",
+                   {{"scene", "city"}, {"id", "page-0123abcd"}, {"width", 64}, {"height", 48}});
+  ASSERT_EQ(made->status, 201) << made->body;
+  EXPECT_EQ(parse(made)["id"], "page-0123abcd");
+  EXPECT_EQ(post("/api/sessions/page-0123abcd/frame", json::object())->status, 200);
+  auto again = post("/api/sessions", {{"scene", "city"}, {"id", "page-0123abcd"}});
+  EXPECT_EQ(again->status, 409);
+  EXPECT_EQ(errorCode(again), "conflict");
+  for (const json& bad :
+       {json("short"), json("has/slash-in-it"), json(12345678), json(std::string(65, 'a'))}) {
+    auto r = post("/api/sessions", {{"scene", "city"}, {"id", bad}});
+    EXPECT_EQ(r->status, 400) << bad;
+    EXPECT_EQ(errorCode(r), "bad_request");
+  }
+}
+
+TEST_F(ServerTest, DrainingAnswersHealthWith503AndStillServesSessions) {
+  start();
+  const std::string id = newSession();
+  server->drain();
+  auto h = client().Get("/healthz");
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->status, 503);
+  EXPECT_EQ(parse(h)["status"], "draining");
+  EXPECT_EQ(post("/api/sessions/" + id + "/frame", json::object())->status, 200);
+}

@@ -62,6 +62,9 @@ class Server {
   void run();
   // From any thread (a signal thread, a test): stops serving.
   void stop();
+  // Draining: /healthz answers 503 so that a load balancer sends new sessions elsewhere, while
+  // everything else is served as before (stop() follows after the grace period, serve --drain-s).
+  void drain();
   // Closes the sessions idle longer than --session-idle-s by the options' clock, as the server
   // does every 2 s on its own; returns how many.
   std::size_t closeIdleSessions();

@@ -1,4 +1,5 @@
 // `hlodr serve`: the HTTP service and its page over the node stores of a data folder.
+#include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -25,7 +26,8 @@ const char* const kServeUsage =
     "Serves the HTTP API (docs/api.md) and the web page over the node stores in DIR (each\n"
     "NAME.hlod/ folder is scene NAME). When DIR holds no store, it generates the default city\n"
     "(DIR/city/) and builds its store (DIR/city.hlod/) first, once. Open the printed URL.\n"
-    "SIGINT or SIGTERM stop it gracefully: running jobs are cancelled and close their files.\n"
+    "SIGINT or SIGTERM stop it gracefully (after --drain-s): running jobs are cancelled and\n"
+    "close their files.\n"
     "Jobs keep their records and outputs in the jobs folder and are listed again after a\n"
     "restart; finished ones expire by --keep-jobs-days and --jobs-max-mb.\n"
     "\n"
@@ -46,6 +48,7 @@ const char* const kServeUsage =
     "{serve.sessionIdleS}\n"
     "{serve.requestTimeoutS}\n"
     "{serve.maxConnectionsPerAddress}\n"
+    "{serve.drainS}\n"
     "{serve.keepJobsDays}\n"
     "{serve.jobsMaxMb}\n"
     "{serve.web}\n"
@@ -124,6 +127,7 @@ int runServe(const Argv& argv) {
                                         "serve.sessionIdleS",
                                         "serve.requestTimeoutS",
                                         "serve.maxConnectionsPerAddress",
+                                        "serve.drainS",
                                         "serve.keepJobsDays",
                                         "serve.jobsMaxMb",
                                         "serve.web",
@@ -155,8 +159,9 @@ int runServe(const Argv& argv) {
   auto idle = args->integer(get("serve.sessionIdleS"));
   auto timeout = args->integer(get("serve.requestTimeoutS"));
   auto perAddress = args->integer(get("serve.maxConnectionsPerAddress"));
+  auto drainS = args->integer(get("serve.drainS"));
   for (const auto* r : {&port, &workers, &runners, &sessions, &queue, &streams, &jobs, &frames,
-                        &size, &idle, &timeout, &perAddress})
+                        &size, &idle, &timeout, &perAddress, &drainS})
     if (!*r) return usageError("serve", r->message());
   auto memory = args->number(get("serve.memoryMb"));
   auto glMemory = args->number(get("serve.glMemoryMb"));
@@ -229,11 +234,21 @@ int runServe(const Argv& argv) {
     std::fprintf(stderr, "hlodr serve: %s\n", bound.message().c_str());
     return 1;
   }
+  std::atomic<bool> served{false};  // run() returned: the wake-up below is no stop request
   std::thread signals([&] {
     int sig = 0;
     sigwait(&stopSignals, &sig);
-    if (sig == 0) return;
-    logLine(std::string("stopping (") + (sig == SIGINT ? "SIGINT" : "SIGTERM") + ")");
+    if (sig == 0 || served) return;
+    const std::string name = sig == SIGINT ? "SIGINT" : "SIGTERM";
+    if (*drainS > 0) {
+      // Drain first: /healthz says 503 so the load balancer sends new sessions elsewhere, while
+      // the current ones keep their frames; a second signal cuts it short.
+      (*server)->drain();
+      logLine("draining for " + std::to_string(*drainS) + " s (" + name + ")");
+      const timespec wait{static_cast<time_t>(*drainS), 0};
+      sigtimedwait(&stopSignals, nullptr, &wait);
+    }
+    logLine("stopping (" + name + ")");
     (*server)->stop();
   });
   logLine("hlodr serve: listening on " + (*server)->url());
@@ -241,6 +256,7 @@ int runServe(const Argv& argv) {
   std::fflush(stdout);
   (*server)->run();
   // The signal thread may still wait: wake it with a signal of its own set.
+  served = true;
   if (signals.joinable()) {
     pthread_kill(signals.native_handle(), SIGTERM);
     signals.join();

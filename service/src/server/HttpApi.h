@@ -28,6 +28,7 @@ struct ApiContext {
   std::atomic<std::size_t> streams{0};
   std::atomic<std::size_t> inFlight{0};  // render requests admitted and not yet answered
   std::atomic<bool> stopping{false};
+  std::atomic<bool> draining{false};  // /healthz says 503 (Server::drain)
   std::function<void(const std::string&)> log;
   bool accessLog = true;
   std::size_t queued() const;  // render requests waiting or running

@@ -312,6 +312,10 @@ std::shared_ptr<void> Server::holdWorkers() {
   return std::shared_ptr<void>(nullptr, [gate](void*) { gate->set_value(); });
 }
 
+void Server::drain() {
+  if (impl_) impl_->api->draining = true;
+}
+
 void Server::stop() {
   if (!impl_ || impl_->stopped.exchange(true)) return;
   impl_->api->stopping = true;

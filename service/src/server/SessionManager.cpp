@@ -151,7 +151,8 @@ std::size_t SessionManager::count() const {
 }
 
 ApiResult<nlohmann::json> SessionManager::create(const std::shared_ptr<Scene>& scene,
-                                                 const RenderSettings& settings) {
+                                                 const RenderSettings& settings,
+                                                 const std::string& id) {
   auto live = std::make_shared<Live>();
   {
     std::lock_guard lock(mutex_);
@@ -160,8 +161,14 @@ ApiResult<nlohmann::json> SessionManager::create(const std::shared_ptr<Scene>& s
                       "at most " + std::to_string(limits_.maxSessions) +
                           " sessions at once; close one (DELETE /api/sessions/{id}) or wait for "
                           "idle ones to expire"};
-    do live->id = newId('s');
-    while (live_.count(live->id));
+    if (!id.empty() && live_.count(id))
+      return ApiError{409, "conflict", "session id " + id + " is in use"};
+    if (!id.empty()) {
+      live->id = id;
+    } else {
+      do live->id = newId('s');
+      while (live_.count(live->id));
+    }
     live->scene = scene;
     live->settings = settings;
     live->worker = leastBusyWorker();

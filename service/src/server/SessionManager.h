@@ -39,8 +39,10 @@ class SessionManager {
                  GlMemory& glMemory, SessionLimits limits);
   ~SessionManager();
 
+  // id: the client's proposed id (a load balancer routes by it, docs/deploy.md), checked by the
+  // caller; empty: a random one. An id in use is 409.
   ApiResult<nlohmann::json> create(const std::shared_ptr<Scene>& scene,
-                                   const RenderSettings& settings);
+                                   const RenderSettings& settings, const std::string& id = {});
   // camera: the request's "camera" object, or null for the session's last camera.
   ApiResult<FrameAnswer> frame(const std::string& id, const nlohmann::json& camera, bool still,
                                const ImageRequest& image);

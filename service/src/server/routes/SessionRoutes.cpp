@@ -1,4 +1,7 @@
 // /api/sessions: interactive viewing sessions (create, frame, info, delete).
+#include <algorithm>
+#include <cctype>
+
 #include "server/ApiReply.h"
 #include "server/SceneChoice.h"
 #include "server/routes/Routes.h"
@@ -12,8 +15,22 @@ void installSessionRoutes(httplib::Server& http, ApiContext& api) {
     if (!jsonBody(req, res)) return;
     std::set<std::string> fields = renderSettingFields();
     fields.insert("scene");
+    fields.insert("id");
     auto in = JsonInput::parse(req.body, fields);
     if (!in) return sendError(res, badRequest(in.message()));
+    // A client may propose the id, so that a load balancer can hash it before the session
+    // exists (docs/deploy.md); a narrow alphabet keeps it safe in paths and logs.
+    std::string id;
+    if (in->has("id")) {
+      const auto& v = in->json()["id"];
+      if (v.is_string()) id = v.get<std::string>();
+      const bool ok =
+          id.size() >= 8 && id.size() <= 64 && std::all_of(id.begin(), id.end(), [](char c) {
+            return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
+          });
+      if (!ok)
+        return sendError(res, badRequest("id: must be 8..64 characters of A-Z, a-z, 0-9, - and _"));
+    }
     auto choice = readSceneChoice(in->json().value("scene", nlohmann::json()), api.scenes);
     if (!choice) return sendError(res, choice.error());
     auto scene = choice->store;
@@ -22,7 +39,7 @@ void installSessionRoutes(httplib::Server& http, ApiContext& api) {
     choice->applyTo(*settings);
     auto slot = admit(api, res);
     if (!slot) return;
-    auto made = api.sessions.create(scene, *settings);
+    auto made = api.sessions.create(scene, *settings, id);
     if (!made) return sendError(res, made.error());
     sendJson(res, 201, *made);
   });
