@@ -28,7 +28,11 @@ function skip(why) {
 }
 for (const [tool, arg] of [['haproxy', '-v'], ['promtool', '--version']])
   if (spawnSync(tool, [arg], { stdio: 'ignore' }).status !== 0) skip(`${tool} is not installed`);
-if (!fs.existsSync(path.join(HERE, 'node_modules/kubernetes-models'))) skip('tests/deploy/node_modules is missing (npm ci)');
+// Where the npm registry cannot be reached (scripts/test.sh sets HLODR_DEPLOY_K8S_SKIP), the
+// manifests' schema check is left out, said loudly; the rest runs.
+const k8sSkipped = !fs.existsSync(path.join(HERE, 'node_modules/kubernetes-models'));
+if (k8sSkipped && !process.env.HLODR_DEPLOY_K8S_SKIP) skip('tests/deploy/node_modules is missing (npm ci)');
+if (k8sSkipped) console.log('config.test: WARNING: no tests/deploy/node_modules: the Kubernetes manifests are NOT checked');
 
 const failures = [];
 function check(ok, what) {
@@ -131,12 +135,13 @@ try {
 }
 
 // Kubernetes manifests against the API's schemas.
-{
+if (!k8sSkipped) {
   const YAML = (await import('yaml')).default;
   const kinds = {
     'apps/v1/Deployment': 'kubernetes-models/apps/v1/Deployment',
     'v1/Service': 'kubernetes-models/v1/Service',
     'autoscaling/v2/HorizontalPodAutoscaler': 'kubernetes-models/autoscaling/v2/HorizontalPodAutoscaler',
+    'batch/v1/Job': 'kubernetes-models/batch/v1/Job',
   };
   const objects = {};
   for (const file of fs.readdirSync(path.join(DEPLOY, 'k8s')).filter((f) => f.endsWith('.yaml'))) {
