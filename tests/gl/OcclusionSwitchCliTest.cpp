@@ -16,10 +16,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-gltest::Run hlodr(const std::string& args) {
-  return gltest::runHlodr(args);
-}
-
 class OcclusionSwitchCli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -34,19 +30,20 @@ class OcclusionSwitchCli : public ::testing::Test {
 }  // namespace
 
 TEST_F(OcclusionSwitchCli, FramesEqualTheUnculledFramesAndOnlyDeltasTravel) {
-  auto r = hlodr("city -o " + path("city") + " --blocks 4 --texture 64 --quiet");
+  auto r = gltest::runHlodr("city -o " + path("city") + " --blocks 4 --texture 64 --quiet");
   ASSERT_EQ(r.status, 0) << r.output;
-  r = hlodr("build " + path("city") + " -o " + path("c.hlod") + " --quiet");
+  r = gltest::runHlodr("build " + path("city") + " -o " + path("c.hlod") + " --quiet");
   ASSERT_EQ(r.status, 0) << r.output;
-  r = hlodr("path " + path("c.hlod") + " --kind walk-fly -o " + path("p.json"));
+  r = gltest::runHlodr("path " + path("c.hlod") + " --kind walk-fly -o " + path("p.json"));
   ASSERT_EQ(r.status, 0) << r.output;
   // The street part of the walk: every leaf is a candidate, the facades hide most of them.
   const std::string frames = " --fps 2 --frames 24 --size 160x90 --quiet ";
-  r = hlodr("switch " + path("c.hlod") + " --path " + path("p.json") + " --selector full" + frames +
-            "-o " + path("sw"));
+  r = gltest::runHlodr("switch " + path("c.hlod") + " --path " + path("p.json") +
+                       " --selector full" + frames + "-o " + path("sw"));
   ASSERT_EQ(r.status, 0) << r.output;
-  r = hlodr("render " + path("c.hlod") + " --path " + path("p.json") +
-            " --selector full --mode settled --occlusion off" + frames + "-o " + path("ref"));
+  r = gltest::runHlodr("render " + path("c.hlod") + " --path " + path("p.json") +
+                       " --selector full --mode settled --occlusion off" + frames + "-o " +
+                       path("ref"));
   ASSERT_EQ(r.status, 0) << r.output;
 
   std::ifstream in(dir / "sw" / "switch.json");
@@ -77,11 +74,12 @@ TEST_F(OcclusionSwitchCli, FramesEqualTheUnculledFramesAndOnlyDeltasTravel) {
 }
 
 TEST_F(OcclusionSwitchCli, ABudgetBoundSelectorOrAMissingStoreIsRefusedClearly) {
-  auto r = hlodr("switch " + path("none.hlod") + " --path " + path("p.json") + " -o " +
-                 path("out") + " --selector lakhia");
+  auto r = gltest::runHlodr("switch " + path("none.hlod") + " --path " + path("p.json") + " -o " +
+                            path("out") + " --selector lakhia");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("sse or full"), std::string::npos) << r.output;
-  r = hlodr("switch " + path("none.hlod") + " --path " + path("p.json") + " -o " + path("out"));
+  r = gltest::runHlodr("switch " + path("none.hlod") + " --path " + path("p.json") + " -o " +
+                       path("out"));
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("none.hlod"), std::string::npos) << r.output;
 }

@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path testRoot() {
+fs::path segmentsTestRoot() {
   return fs::temp_directory_path() / ("hlodr_segments_" + std::to_string(::getpid()));
 }
 
@@ -43,7 +43,7 @@ const fs::path& segmentStore() {
   return store;
 }
 
-std::string bytesOf(const fs::path& p) {
+std::string fileBytes(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
@@ -52,7 +52,7 @@ class SegmentsTest : public ::testing::Test {
  protected:
   static void TearDownTestSuite() {
     std::error_code ec;
-    fs::remove_all(testRoot(), ec);
+    fs::remove_all(segmentsTestRoot(), ec);
   }
   void SetUp() override {
     ASSERT_FALSE(segmentStore().empty());
@@ -61,7 +61,7 @@ class SegmentsTest : public ::testing::Test {
     auto p = hlod::makeOrbitPath((*store)->skeleton(), 2.0);
     ASSERT_TRUE(p.ok()) << p.message();
     path = std::make_unique<hlod::CameraPath>(std::move(*p));
-    out = testRoot() / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    out = segmentsTestRoot() / ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::remove_all(out);
   }
 
@@ -114,9 +114,9 @@ TEST_F(SegmentsTest, SettledSegmentsJoinedAreTheUnsplitRunFrameForFrame) {
   for (int i = 0; i < kFrames; ++i) {
     const std::string name =
         "frame_" + std::string(5 - std::to_string(i).size(), '0') + std::to_string(i) + ".png";
-    const std::string whole = bytesOf(out / "whole" / name);
+    const std::string whole = fileBytes(out / "whole" / name);
     ASSERT_FALSE(whole.empty()) << name;
-    EXPECT_TRUE(whole == bytesOf(out / "joined" / name)) << name << " differs";
+    EXPECT_TRUE(whole == fileBytes(out / "joined" / name)) << name << " differs";
   }
   // One stats file as the unsplit run's: frames numbered on, the same fronts, one summary.
   auto read = [](const fs::path& p) {
