@@ -21,8 +21,15 @@ import { fileURLToPath } from 'node:url';
 
 const REPO = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const HLODR = process.env.HLODR_BINARY || path.join(REPO, 'build/hlodr');
-const { api, setApiBase } = await import(path.join(REPO, 'web/api.js'));
-const { frameOrReopen, newSessionId } = await import(path.join(REPO, 'web/recovery.js'));
+// The page's own modules, run as they are. web/ has no package.json, and Node before 22 reads a
+// .js file without one as CommonJS: they are imported from a copy beside one that says "module".
+const webCopy = fs.mkdtempSync(path.join(os.tmpdir(), 'hlodr-lb-web-'));
+fs.writeFileSync(path.join(webCopy, 'package.json'), '{"type": "module"}\n');
+for (const f of fs.readdirSync(path.join(REPO, 'web')).filter((n) => n.endsWith('.js')))
+  fs.copyFileSync(path.join(REPO, 'web', f), path.join(webCopy, f));
+process.on('exit', () => fs.rmSync(webCopy, { recursive: true, force: true }));
+const { api, setApiBase } = await import(path.join(webCopy, 'api.js'));
+const { frameOrReopen, newSessionId } = await import(path.join(webCopy, 'recovery.js'));
 
 const SIZE = { width: 160, height: 90 };
 const WARM_MS = 1500; // orbits before the figures are taken (first loads)
