@@ -28,6 +28,8 @@ fs.writeFileSync(path.join(webCopy, 'package.json'), '{"type": "module"}\n');
 for (const f of fs.readdirSync(path.join(REPO, 'web')).filter((n) => n.endsWith('.js')))
   fs.copyFileSync(path.join(REPO, 'web', f), path.join(webCopy, f));
 process.on('exit', () => fs.rmSync(webCopy, { recursive: true, force: true }));
+// The page draws session ids from the browser's crypto, which Node 18 has only as a module.
+if (!globalThis.crypto) globalThis.crypto = (await import('node:crypto')).webcrypto;
 const { api, setApiBase } = await import(path.join(webCopy, 'api.js'));
 const { frameOrReopen, newSessionId } = await import(path.join(webCopy, 'recovery.js'));
 
