@@ -286,12 +286,12 @@ std::vector<TraceRun> Job::traceRuns(std::span<const hlod::FrameRecord> frames) 
   const std::uint32_t n = std::max<std::uint32_t>(1, settings.segments);
   for (std::uint32_t i = 0; i < n; ++i) {
     const hlod::FrameRange r = hlod::segmentRange(framesTotal, i, n);
-    const auto first = std::lower_bound(
-        frames.begin(), frames.end(), r.first,
-        [](const hlod::FrameRecord& f, std::uint64_t at) { return f.index < at; });
-    const auto end = std::lower_bound(
-        first, frames.end(), r.end,
-        [](const hlod::FrameRecord& f, std::uint64_t at) { return f.index < at; });
+    const auto first =
+        std::lower_bound(frames.begin(), frames.end(), r.first,
+                         [](const hlod::FrameRecord& f, std::uint64_t at) { return f.index < at; });
+    const auto end =
+        std::lower_bound(first, frames.end(), r.end,
+                         [](const hlod::FrameRecord& f, std::uint64_t at) { return f.index < at; });
     if (first == end && n > 1) continue;
     const std::string name =
         "job " + id + (n > 1 ? " segment " + std::to_string(i) + "/" + std::to_string(n) : "");
