@@ -67,6 +67,12 @@ Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
           ? static_cast<std::uint64_t>(std::llround(options.prefetchSeconds * options.fps))
           : 0;
 
+  // Path frame i, with the camera `ahead` frames on for the prefetch.
+  auto renderAt = [&](std::uint64_t i) {
+    CameraSample look;
+    if (ahead > 0) look = sampleOf(std::min(i + ahead, *all - 1));
+    return driver.renderFrame(sampleOf(i), options.mode, ahead > 0 ? &look : nullptr);
+  };
   Status failure = Ok{};
   // The warm-up: the frames before the segment, drawn as the whole run draws them, so that the
   // selector's state (v_time, hysteresis counters, last front) and the residency arrive at the
@@ -76,10 +82,7 @@ Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
       result.cancelled = true;
       break;
     }
-    const CameraSample sample = sampleOf(i);
-    CameraSample look;
-    if (ahead > 0) look = sampleOf(std::min(i + ahead, *all - 1));
-    auto rec = driver.renderFrame(sample, options.mode, ahead > 0 ? &look : nullptr);
+    auto rec = renderAt(i);
     if (!rec) {
       failure = makeError("warm-up frame " + std::to_string(i) + ": " + rec.message());
       break;
@@ -90,10 +93,7 @@ Result<PathRunResult> runPath(FrameDriver& driver, const CameraPath& path,
       result.cancelled = true;
       break;
     }
-    const CameraSample sample = sampleOf(i);
-    CameraSample look;
-    if (ahead > 0) look = sampleOf(std::min(i + ahead, *all - 1));
-    auto rec = driver.renderFrame(sample, options.mode, ahead > 0 ? &look : nullptr);
+    auto rec = renderAt(i);
     if (!rec) {
       failure = makeError("frame " + std::to_string(i) + ": " + rec.message());
       break;

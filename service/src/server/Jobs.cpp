@@ -624,6 +624,20 @@ void JobManager::runExportJob(Job& job) {
   job.setState(JobState::Done);
 }
 
+namespace {
+
+// A path job's run, whole or one segment's.
+hlod::PathRunOptions pathRunOptions(const Job& job) {
+  hlod::PathRunOptions o;
+  o.fps = job.settings.fps;
+  o.maxFrames = static_cast<long long>(job.framesTotal);
+  o.mode = job.settings.mode;
+  o.prefetchSeconds = job.settings.prefetch ? 1.0 : 0.0;
+  return o;
+}
+
+}  // namespace
+
 void JobManager::runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraPath& path,
                             renderer::GlContext& gl) {
   auto session = openSession(*job->scene, job->settings.render, gl, scenes_.cache());
@@ -652,11 +666,7 @@ void JobManager::runPathJob(const std::shared_ptr<Job>& job, const hlod::CameraP
                                                     "job " + job->id, job->settings.render.json()));
   std::vector<hlod::FrameSink*> list;
   for (auto& s : sinks) list.push_back(s.get());
-  hlod::PathRunOptions o;
-  o.fps = job->settings.fps;
-  o.maxFrames = static_cast<long long>(job->framesTotal);
-  o.mode = job->settings.mode;
-  o.prefetchSeconds = job->settings.prefetch ? 1.0 : 0.0;
+  hlod::PathRunOptions o = pathRunOptions(*job);
   auto ran = hlod::runPath((*session)->driver(), path, o, list, &job->cancel);
   job->scene->rememberTiming(job->settings.render.width, job->settings.render.height,
                              (*session)->driver().timing());
@@ -712,11 +722,7 @@ void JobManager::runPathSegment(const std::shared_ptr<Job>& job, const hlod::Cam
   sinks.push_back(std::make_unique<JobSink>(*job, metrics_));
   std::vector<hlod::FrameSink*> list;
   for (auto& s : sinks) list.push_back(s.get());
-  hlod::PathRunOptions o;
-  o.fps = job->settings.fps;
-  o.maxFrames = static_cast<long long>(job->framesTotal);
-  o.mode = job->settings.mode;
-  o.prefetchSeconds = job->settings.prefetch ? 1.0 : 0.0;
+  hlod::PathRunOptions o = pathRunOptions(*job);
   o.segmentIndex = index;
   o.segmentCount = job->settings.segments;
   auto ran = hlod::runPath((*session)->driver(), path, o, list, &job->cancel);
