@@ -106,6 +106,13 @@ TEST(SwitchMessage, ABrokenMessageIsRefused) {
   hlod::SwitchMessage unordered;
   unordered.delta.added = {6, 2};
   EXPECT_FALSE(hlod::decodeSwitchMessage(hlod::encodeSwitchMessage(unordered), 7));
+  // A node both added and removed (found by the fuzz target: it rebuilt a set that kept a node
+  // the delta removes).
+  hlod::SwitchMessage both;
+  both.delta.added = {2, 3};
+  both.delta.removed = {3};
+  EXPECT_FALSE(hlod::decodeSwitchMessage(hlod::encodeSwitchMessage(both), 7));
+  EXPECT_FALSE(hlod::applyVisibleSetDelta(std::vector<std::uint32_t>{3}, both.delta));
 }
 
 // Sec. 4.5: 8n + nh/b + 3(72 + h).

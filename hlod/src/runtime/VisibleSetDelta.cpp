@@ -29,6 +29,15 @@ bool sortedUnique(std::span<const std::uint32_t> ids) {
   return std::adjacent_find(ids.begin(), ids.end(), std::greater_equal<>()) == ids.end();
 }
 
+// delta_{i,i-1} and delta_{i-1,i} are disjoint by definition; both sorted.
+bool disjoint(std::span<const std::uint32_t> a, std::span<const std::uint32_t> b) {
+  for (auto i = a.begin(), j = b.begin(); i != a.end() && j != b.end();) {
+    if (*i == *j) return false;
+    *i < *j ? ++i : ++j;
+  }
+  return true;
+}
+
 }  // namespace
 
 VisibleSetDelta visibleSetDelta(std::span<const std::uint32_t> previous,
@@ -46,6 +55,8 @@ Result<std::vector<std::uint32_t>> applyVisibleSetDelta(std::span<const std::uin
                                                         const VisibleSetDelta& delta) {
   if (!sortedUnique(delta.added) || !sortedUnique(delta.removed))
     return makeError("visible-set delta: ids out of order or repeated");
+  if (!disjoint(delta.added, delta.removed))
+    return makeError("visible-set delta: adds and removes the same node");
   std::vector<std::uint32_t> kept;
   kept.reserve(previous.size());
   std::set_difference(previous.begin(), previous.end(), delta.removed.begin(), delta.removed.end(),
@@ -117,6 +128,8 @@ Result<SwitchMessage> decodeSwitchMessage(std::span<const std::byte> bytes,
   }
   if (!sortedUnique(m.delta.added) || !sortedUnique(m.delta.removed))
     return makeError("switch message: ids out of order or repeated");
+  if (!disjoint(m.delta.added, m.delta.removed))
+    return makeError("switch message: adds and removes the same node");
   return m;
 }
 
