@@ -142,10 +142,14 @@ Result<DrawSplit> FrameDriver::timeDraws(const Camera& camera, std::span<const s
   return median;
 }
 
-double FrameDriver::frontMs(double geometryMs) const {
+double FrameDriver::fixedPartMs(double geometryMs) const {
   // At most half of a draw is taken as fixed: a noisy measurement of the fixed cost never leaves
   // v_time learning from nothing.
-  return geometryMs - std::min(fixedMs_, 0.5 * geometryMs);
+  return std::min(fixedMs_, 0.5 * geometryMs);
+}
+
+double FrameDriver::frontMs(double geometryMs) const {
+  return geometryMs - fixedPartMs(geometryMs);
 }
 
 double FrameDriver::frontDraws() const {
@@ -182,6 +186,7 @@ Status FrameDriver::start(double knownVTime, double knownFixedMs) {
       measuredVTime_ = frontMs(timed->geometryMs) / roots.cost;
   }
   if (known && knownFixedMs > 0.0 && std::isfinite(knownFixedMs)) fixedMs_ = knownFixedMs;
+  reservedFixedMs_ = fixedMs_;
   const double v = known ? knownVTime : measuredVTime_;
   if (v > 0.0 && std::isfinite(v)) {
     selector_->setVTime(v);
@@ -222,6 +227,7 @@ Status FrameDriver::probeOwnVTime(const Camera& camera) {
     const double v = frontMs(timed->geometryMs) / cost;
     const bool steady = std::abs(v / measuredVTime_ - 1.0) < 0.1;
     measuredVTime_ = v;
+    reservedFixedMs_ = fixedPartMs(timed->geometryMs);
     selector_->setVTime(v);
     if (prefetchSelector_) prefetchSelector_->setVTime(v);
     if (steady) break;
@@ -280,6 +286,7 @@ Status FrameDriver::probeVTime(const Camera& camera, const TimedFront& roots) {
     fixedMs_ = std::clamp(intercept, fixedMs_, std::max(fixedMs_, 0.9 * roots.geometryMs));
   }
   measuredVTime_ = frontMs(front->geometryMs) / front->cost;
+  reservedFixedMs_ = fixedPartMs(front->geometryMs);
   if (measuredVTime_ > 0.0) {
     selector_->setVTime(measuredVTime_);
     if (prefetchSelector_) prefetchSelector_->setVTime(measuredVTime_);
@@ -421,7 +428,8 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   view.occlusion = culling ? &occlusion_ : nullptr;
   // The occlusion queries' box pass costs what it cost last frame: reserved as the per-pixel
   // passes are.
-  view.spentMs = rec.uploadMs + screenPassMs_ + fixedMs_ + (culling ? occlusionMs_ : 0.0);
+  view.spentMs =
+      rec.uploadMs + screenPassMs_ + reservedFixedMs_ + (culling ? occlusionMs_ : 0.0);
   view.frontDraws = frontDraws();
   const auto selectStart = loader_.clock().now();
   rec.timeline.selectStartUs = microsecondsOf(selectStart);
@@ -522,6 +530,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   const DrawSplit split = splitDraw(*drawn);
   screenPassMs_ = split.screenMs;
   selector_->feedback(frontMs(split.geometryMs));
+  reservedFixedMs_ = fixedPartMs(split.geometryMs);
   if (split.shadowMs > 0.0 && split.geometryMs > 0.0)
     shadowShare_.update(split.shadowMs, split.geometryMs);
   rec.index = frames_++;

@@ -258,8 +258,13 @@ class FrameDriver {
   double measuredVTime_ = 0.0;
   double screenPassMs_ = 0.0;  // the last frame's per-pixel passes (DrawSplit::screenMs)
   double fixedMs_ = 0.0;       // see fixedMs()
-  // A draw's geometry pass less the fixed cost: what v_time learns from.
+  // The part of a draw's geometry pass taken as fixed (at most fixedMs_), and the rest: what
+  // v_time learns from.
+  double fixedPartMs(double geometryMs) const;
   double frontMs(double geometryMs) const;
+  // The fixed part the last feedback took out of v_time's measurement, reserved from the next
+  // frame's budget: the same part, so that the last front's estimate is its measured time.
+  double reservedFixedMs_ = 0.0;
   // The shadow pass's ms per geometry-pass ms (median of three, low-passed as v_time is). Before
   // its first measurement the shadow pass counts as drawing the front again: a share of 1.
   VTimeFeedback shadowShare_{1.0, 0.3, 4.0, 2.0};
