@@ -206,7 +206,13 @@ export class Viewer {
     this.overlay.replaceChildren(
       el('div', { class: 'ov-main' },
         el('span', { class: `ov-ms ${level}` }, formatMs(s.gpuMs)), ' ms',
-        el('span', { class: 'ov-of' }, ` / ${formatMs(budget)} ms budget`),
+        s.sharedBy > 1
+          ? el('span', {
+            class: 'ov-of ov-shared',
+            title: 'sessions asking for frames at once share one budget ' +
+              '(serve --admission share): this frame was selected for its share',
+          }, ` / ${formatMs(budget)} ms: the ${formatMs(s.budgetMs)} ms budget shared by ${s.sharedBy} sessions`)
+          : el('span', { class: 'ov-of' }, ` / ${formatMs(budget)} ms budget`),
         el('span', { class: `ov-kind ${still ? 'still' : 'moving'}` }, still ? 'still' : 'real-time')),
       el('div', { class: 'ov-bar', title: 'frame time; the mark is the budget' },
         el('i', { class: level, style: `width: ${Math.min(100, (ratio || 0) * 50)}%` })),

@@ -196,6 +196,11 @@ std::vector<Setting> makeTable() {
           "job runners, one GL context each", "serve"),
       row("serve.maxSessions", "max-sessions", "", K::Integer, 1, 10000, "16", "N",
           "live viewing sessions at once; past it 429", "serve"),
+      row("serve.admission", "admission", "", K::Choice, 0, 0, "share", "share|queue",
+          "k sessions asking for frames at once (the workers take turns at GL): share (their k "
+          "frames together hold one budget, each selected for budget / k) or queue (each frame "
+          "gets the whole budget and waits for the others)",
+          "serve", {"share", "queue"}),
       row("serve.queue", "queue", "", K::Integer, 1, 100000, "32", "N",
           "render requests waiting or running; past it 503", "serve"),
       row("serve.maxStreams", "max-streams", "", K::Integer, 1, 10000, "16", "N",

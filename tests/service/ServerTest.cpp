@@ -341,6 +341,38 @@ TEST_F(ServerTest, IdleSessionsExpireAndTheSessionLimitAnswers429) {
   EXPECT_FALSE(newSession().empty());  // room again
 }
 
+// The admission rule (serve --admission): sessions that asked for frames within the last second
+// share one budget, or queue for it, on whatever worker each lives. On the test's clock, as above.
+TEST_F(ServerTest, SessionsAskingAtOnceShareOneBudgetOrQueueForIt) {
+  for (const bool share : {true, false}) {
+    SCOPED_TRACE(share ? "share" : "queue");
+    auto offset = std::make_shared<std::atomic<long long>>(0);
+    const auto base = std::chrono::steady_clock::now();
+    service::ServerOptions o;
+    o.workers = 2;
+    o.shareBudget = share;
+    o.clock = [offset, base] { return base + std::chrono::seconds(offset->load()); };
+    start(o);
+    const std::string a = newSession({{"budgetMs", 30}}), b = newSession({{"budgetMs", 30}});
+    const auto frameStats = [&](const std::string& id) {
+      auto r = post("/api/sessions/" + id + "/frame", json::object());
+      EXPECT_TRUE(r && r->status == 200);
+      return r ? json::parse(r->get_header_value("X-Hlodr-Stats"), nullptr, false) : json();
+    };
+    const auto expectShare = [&](const json& stats, int k) {
+      EXPECT_EQ(stats["budgetMs"].get<double>(), 30.0);
+      EXPECT_EQ(stats["sharedBy"].get<int>(), share ? k : 1);
+      EXPECT_DOUBLE_EQ(stats["targetMs"].get<double>(), share ? 30.0 / k : 30.0);
+    };
+    expectShare(frameStats(a), 1);  // b has not asked yet
+    expectShare(frameStats(b), 2);
+    expectShare(frameStats(a), 2);
+    *offset = 2;  // both asked 2 s ago: a asks alone again
+    expectShare(frameStats(a), 1);
+    stop();
+  }
+}
+
 TEST_F(ServerTest, AJobRunsToTheEndWithFramesStatsVideoAndAnEventStreamThatReplays) {
   start();
   const std::string id = newJob({{"video", true}});

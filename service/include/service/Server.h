@@ -28,6 +28,8 @@ struct ServerOptions {
   int workers = 2;
   int jobRunners = 1;
   std::size_t maxSessions = 16;
+  // Sessions asking for frames at once: share one budget, or queue for it (SessionManager.h).
+  bool shareBudget = true;
   std::size_t queue = 32;                       // render requests waiting or running, all workers
   std::size_t maxStreams = 16;                  // event streams at once
   std::size_t maxJobs = 8;                      // queued or running

@@ -38,6 +38,7 @@ const char* const kServeUsage =
     "{serve.workers}\n"
     "{serve.jobRunners}\n"
     "{serve.maxSessions}\n"
+    "{serve.admission}\n"
     "{serve.queue}\n"
     "{serve.maxStreams}\n"
     "{serve.maxJobs}\n"
@@ -117,6 +118,7 @@ int runServe(const Argv& argv) {
                                         "serve.workers",
                                         "serve.jobRunners",
                                         "serve.maxSessions",
+                                        "serve.admission",
                                         "serve.queue",
                                         "serve.maxStreams",
                                         "serve.maxJobs",
@@ -163,6 +165,8 @@ int runServe(const Argv& argv) {
   for (const auto* r : {&port, &workers, &runners, &sessions, &queue, &streams, &jobs, &frames,
                         &size, &idle, &timeout, &perAddress, &drainS})
     if (!*r) return usageError("serve", r->message());
+  auto admission = args->choice(get("serve.admission"));
+  if (!admission) return usageError("serve", admission.message());
   auto memory = args->number(get("serve.memoryMb"));
   auto glMemory = args->number(get("serve.glMemoryMb"));
   auto keepDays = args->number(get("serve.keepJobsDays"));
@@ -177,6 +181,7 @@ int runServe(const Argv& argv) {
   o.workers = int(*workers);
   o.jobRunners = int(*runners);
   o.maxSessions = std::size_t(*sessions);
+  o.shareBudget = *admission == "share";
   o.queue = std::size_t(*queue);
   o.maxStreams = std::size_t(*streams);
   o.maxJobs = std::size_t(*jobs);

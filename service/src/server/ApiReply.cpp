@@ -83,7 +83,11 @@ void sendFrame(Response& res, const FrameAnswer& a, double totalMs) {
                 a.queueMs, r.selectorMs, r.uploadMs, r.drawMs, a.readbackMs, a.encodeMs, totalMs);
   res.set_header("Server-Timing", timing);
   nlohmann::json stats = nlohmann::json::parse(hlod::frameJson(r));
-  if (!a.session.empty()) stats["session"] = a.session;
+  if (!a.session.empty()) {
+    stats["session"] = a.session;
+    stats["budgetMs"] = a.budgetMs;
+    stats["sharedBy"] = a.sharedBy;
+  }
   res.set_header("X-Hlodr-Stats", stats.dump());
   res.set_header("Cache-Control", "no-store");
   res.status = 200;

@@ -96,6 +96,10 @@ struct FrameAnswer {
   renderer::ImageFormat format = renderer::ImageFormat::Jpeg;
   hlod::FrameRecord record;
   std::string session;  // id, for session frames
+  // Session frames: the session's budget, and the sessions that shared it (the frame was
+  // selected for budgetMs / sharedBy; SessionLimits::shareBudget).
+  double budgetMs = 0.0;
+  std::size_t sharedBy = 0;
   double queueMs = 0.0, readbackMs = 0.0, encodeMs = 0.0;
 };
 

@@ -95,6 +95,7 @@ hlod::Result<std::unique_ptr<Server>> Server::create(const ServerOptions& o, Log
 
   SessionLimits sl;
   sl.maxSessions = o.maxSessions;
+  sl.shareBudget = o.shareBudget;
   sl.idleTimeout = std::chrono::seconds(o.sessionIdleSeconds);
   sl.renderTimeout = std::chrono::seconds(o.renderTimeoutSeconds);
   sl.now = o.clock;

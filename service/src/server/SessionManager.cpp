@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <future>
+#include <limits>
 #include <random>
 
 #include "renderer/Renderer.h"
@@ -55,6 +56,7 @@ struct SessionManager::Live {
   hlod::Camera camera;  // the last one drawn
   Clock::time_point lastFrameAt{};
   std::atomic<Clock::rep> lastUsed{0};
+  std::atomic<Clock::rep> askedAt{std::numeric_limits<Clock::rep>::min()};  // last frame asked
   std::atomic<std::uint64_t> frames{0};
   std::atomic<bool> ready{false};  // the worker made the session (HTTP threads read this)
   std::atomic<bool> closed{false};
@@ -143,6 +145,13 @@ std::size_t SessionManager::leastBusyWorker() const {
   for (std::size_t i = 1; i < workers_.size(); ++i)
     if (workers_[i]->queued() < workers_[best]->queued()) best = i;
   return best;
+}
+
+std::size_t SessionManager::asking(Clock::time_point now) const {
+  const Clock::rep since = (now - kAskingWindow).time_since_epoch().count();
+  std::lock_guard lock(mutex_);
+  return std::size_t(std::count_if(live_.begin(), live_.end(),
+                                   [&](const auto& l) { return l.second->askedAt >= since; }));
 }
 
 std::size_t SessionManager::count() const {
@@ -241,6 +250,7 @@ ApiResult<FrameAnswer> SessionManager::frame(const std::string& id, const nlohma
   }
   if (!live) return notFound("no session " + id + " (closed or expired)");
   live->lastUsed = limits_.now().time_since_epoch().count();
+  live->askedAt = live->lastUsed.load();
   const auto posted = Clock::now();
   auto answer = runOn<FrameAnswer>(
       *workers_[live->worker], limits_.renderTimeout,
@@ -260,6 +270,10 @@ ApiResult<FrameAnswer> SessionManager::frame(const std::string& id, const nlohma
           if (dt > 1e-3 && dt < 1.0)
             sample.velocity = (sample.camera.position - live->camera.position) / dt;
         }
+        // The admission rule (SessionLimits::shareBudget); this session asked, so k >= 1.
+        const std::size_t k =
+            limits_.shareBudget ? std::max<std::size_t>(1, asking(limits_.now())) : 1;
+        live->session->driver().selector().setTargetMs(live->settings.budgetMs / double(k));
         auto a = draw(*live->session, *live->scene, sample,
                       still ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime, image, posted);
         live->gl.resize(targetsOf(live->settings) + live->session->gpuBytes());
@@ -268,6 +282,8 @@ ApiResult<FrameAnswer> SessionManager::frame(const std::string& id, const nlohma
           live->lastFrameAt = now;
           ++live->frames;
           a->session = live->id;
+          a->budgetMs = live->settings.budgetMs;
+          a->sharedBy = k;
         }
         return a;
       });

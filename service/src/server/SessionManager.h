@@ -26,6 +26,14 @@ namespace service::server {
 
 struct SessionLimits {
   std::size_t maxSessions = 16;
+  // The admission rule of sessions that ask for frames at once (a frame asked within
+  // kAskingWindow). The workers take turns at GL (RenderWorker.h): the k sessions' frames are
+  // drawn one after the other whatever worker holds them. true: they share one budget, each
+  // frame selected for budgetMs / k, so that the k frames together take one budget as one
+  // session's frame alone would (each session's frame rate held, its detail lowered); false:
+  // each frame is selected for the whole budget and waits for the others' (detail held, frame
+  // rate divided by k).
+  bool shareBudget = true;
   std::chrono::seconds idleTimeout{120};    // sessions and warm render contexts
   std::chrono::seconds renderTimeout{120};  // longest wait for one frame
   std::function<Clock::time_point()> now = [] { return Clock::now(); };  // idle time's clock
@@ -34,6 +42,7 @@ struct SessionLimits {
 class SessionManager {
  public:
   static constexpr std::size_t kWarmPerWorker = 4;
+  static constexpr std::chrono::seconds kAskingWindow{1};
 
   SessionManager(std::vector<RenderWorker*> workers, SceneRegistry& scenes, Metrics& metrics,
                  GlMemory& glMemory, SessionLimits limits);
@@ -63,6 +72,8 @@ class SessionManager {
   struct Live;
   struct Warm;
   std::size_t leastBusyWorker() const;
+  // Sessions that asked for a frame within kAskingWindow of now.
+  std::size_t asking(Clock::time_point now) const;
   // A lease of GL memory for a session of these settings: on the worker's thread (w), where
   // warm contexts of that worker are dropped, least recently used first, to make room.
   ApiResult<GlMemory::Lease> leaseFor(const RenderSettings& settings, std::size_t w);
