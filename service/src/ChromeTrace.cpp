@@ -2,6 +2,7 @@
 #include "service/ChromeTrace.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -11,7 +12,7 @@ namespace service {
 
 namespace {
 
-using Ns = std::int64_t;  // nanoseconds from the trace's origin
+using Ns = std::int64_t;  // nanoseconds from the trace's origin, whole microseconds (toNs)
 
 // A slice before it is placed: where its step began and how long it took.
 struct Step {
@@ -38,10 +39,13 @@ const char* const kPassPlacement =
     "select, upload, draw, readback and encode start where they were measured (steady clock); "
     "the passes are GPU durations laid end to end from the draw's start, inside it";
 
-// Integer nanoseconds, so that nesting holds exactly; a NaN or an infinity is 0.
+// Whole microseconds (held as nanoseconds), so that nesting holds exactly, here and in a
+// viewer: a viewer adds ts and dur in floating point, which is exact for whole numbers only (at
+// a nanosecond grid 67672.799 + 23969.139 came out past its last child's end, and speedscope
+// took the child for an overlap). A NaN or an infinity is 0.
 Ns toNs(double us) {
   if (!std::isfinite(us)) return 0;
-  const double ns = std::round(us * 1e3);
+  const double ns = std::round(us) * 1e3;
   constexpr double kMax = 4e18;
   return static_cast<Ns>(std::clamp(ns, -kMax, kMax));
 }
@@ -53,7 +57,8 @@ double finite(double v) {
   return std::isfinite(v) ? v : 0.0;
 }
 double toUs(Ns ns) {
-  return static_cast<double>(ns) * 1e-3;
+  assert(ns % 1000 == 0);
+  return static_cast<double>(ns / 1000);
 }
 
 bool hasTimeline(const hlod::FrameTimeline& t) {

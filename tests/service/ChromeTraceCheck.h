@@ -63,8 +63,9 @@ inline std::vector<std::string> traceProblems(const nlohmann::json& trace) {
       fail("an event of a phase this writer does not write: " + what);
     }
   }
-  // Half a nanosecond: the writer places slices on a nanosecond grid.
-  constexpr double kEps = 5e-4;
+  // None: a viewer compares ts + dur in floating point as this does (speedscope reported
+  // children that ended 1e-11 us after their frame as overlaps).
+  constexpr double kEps = 0.0;
   for (auto& [thread, slices] : threads) {
     // Parents first: by start, the longer first where two start together.
     std::stable_sort(slices.begin(), slices.end(), [](const Slice& a, const Slice& b) {

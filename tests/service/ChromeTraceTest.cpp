@@ -100,6 +100,34 @@ TEST(ChromeTrace, AFrameSequenceIsAValidTraceWithNestedSlicesAndNumericCounters)
   EXPECT_EQ((*event(text, "thread_name"))["ph"], "M");
 }
 
+// Measured times fall anywhere: the trace puts them on whole microseconds, where a viewer's
+// ts + dur is exact, so that a step that ends with its frame ends exactly there and not 1e-11 us
+// after it (which speedscope took for an overlap).
+TEST(ChromeTrace, TimesOffTheMicrosecondGridNestExactlyAsAViewerAddsThem) {
+  std::vector<FrameRecord> frames;
+  double at = 5e9 + 0.799;
+  for (int i = 0; i < 200; ++i) {
+    FrameRecord f = frameAt(i, at);
+    f.wallMs = 8.000339 + 0.013 * i;
+    f.uploadMs = 1.000417;
+    f.timeline.readbackUs = 400.113;
+    f.timeline.encodeStartUs += 0.419;
+    // The encode ends with the frame: 8,000.339 + 13 i us after its start.
+    f.timeline.encodeUs = f.wallMs * 1e3 - (f.timeline.encodeStartUs - f.timeline.startUs);
+    frames.push_back(f);
+    at += 23969.139 + 0.001 * i;
+  }
+  const json text = json::parse(traceOf(frames).dump());
+  EXPECT_EQ(problems(text), "");
+  for (const auto& e : text["traceEvents"]) {
+    if (e["ph"] == "M") continue;
+    EXPECT_EQ(std::floor(e["ts"].get<double>()), e["ts"].get<double>()) << e.dump();
+    if (e.contains("dur")) {
+      EXPECT_EQ(std::floor(e["dur"].get<double>()), e["dur"].get<double>());
+    }
+  }
+}
+
 TEST(ChromeTrace, StepsStartWhereTheyWereMeasuredAndPassesFollowEachOtherInTheDraw) {
   const json trace = traceOf({frameAt(0, 1e6), frameAt(1, 1e6 + 20000)});
   ASSERT_EQ(problems(trace), "");
