@@ -147,11 +147,12 @@ std::size_t SessionManager::leastBusyWorker() const {
   return best;
 }
 
-std::size_t SessionManager::asking(Clock::time_point now) const {
+std::size_t SessionManager::sharing(const Live& self, Clock::time_point now) const {
   const Clock::rep since = (now - kAskingWindow).time_since_epoch().count();
   std::lock_guard lock(mutex_);
-  return std::size_t(std::count_if(live_.begin(), live_.end(),
-                                   [&](const auto& l) { return l.second->askedAt >= since; }));
+  return 1 + std::size_t(std::count_if(live_.begin(), live_.end(), [&](const auto& l) {
+           return l.second.get() != &self && l.second->askedAt >= since;
+         }));
 }
 
 std::size_t SessionManager::count() const {
@@ -270,9 +271,8 @@ ApiResult<FrameAnswer> SessionManager::frame(const std::string& id, const nlohma
           if (dt > 1e-3 && dt < 1.0)
             sample.velocity = (sample.camera.position - live->camera.position) / dt;
         }
-        // The admission rule (SessionLimits::shareBudget); this session asked, so k >= 1.
-        const std::size_t k =
-            limits_.shareBudget ? std::max<std::size_t>(1, asking(limits_.now())) : 1;
+        // The admission rule (SessionLimits::shareBudget).
+        const std::size_t k = limits_.shareBudget ? sharing(*live, limits_.now()) : 1;
         live->session->driver().selector().setTargetMs(live->settings.budgetMs / double(k));
         auto a = draw(*live->session, *live->scene, sample,
                       still ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime, image, posted);

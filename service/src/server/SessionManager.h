@@ -72,8 +72,9 @@ class SessionManager {
   struct Live;
   struct Warm;
   std::size_t leastBusyWorker() const;
-  // Sessions that asked for a frame within kAskingWindow of now.
-  std::size_t asking(Clock::time_point now) const;
+  // The sessions that share the budget with `self` now: self, and the others that asked for a
+  // frame within kAskingWindow.
+  std::size_t sharing(const Live& self, Clock::time_point now) const;
   // A lease of GL memory for a session of these settings: on the worker's thread (w), where
   // warm contexts of that worker are dropped, least recently used first, to make room.
   ApiResult<GlMemory::Lease> leaseFor(const RenderSettings& settings, std::size_t w);
