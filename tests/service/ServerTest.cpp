@@ -367,8 +367,16 @@ TEST_F(ServerTest, SessionsAskingAtOnceShareOneBudgetOrQueueForIt) {
     expectShare(frameStats(a), 1);  // b has not asked yet
     expectShare(frameStats(b), 2);
     expectShare(frameStats(a), 2);
+    const auto askingGauge = [&] {
+      const std::string text = client().Get("/metrics")->body;
+      const auto at = text.find("\nhlodr_sessions_asking ");
+      return at == std::string::npos ? -1 : std::stoi(text.substr(at + 23));
+    };
+    EXPECT_EQ(askingGauge(), 2);
     *offset = 2;  // both asked 2 s ago: a asks alone again
+    EXPECT_EQ(askingGauge(), 0);
     expectShare(frameStats(a), 1);
+    EXPECT_EQ(askingGauge(), 1);
     stop();
   }
 }
@@ -589,6 +597,7 @@ TEST_F(ServerTest, MetricsAreInThePrometheusFormatAndCountTheFrames) {
        {"hlodr_frames_total{kind=\"render\"} 1", "# TYPE hlodr_frame_seconds histogram",
         "hlodr_frame_seconds_bucket{le=\"0.033\"}", "hlodr_frame_seconds_count 1",
         "hlodr_http_request_duration_seconds_count", "hlodr_queue_length", "hlodr_sessions",
+        "hlodr_sessions_asking",
         "hlodr_jobs{state=\"running\"}", "hlodr_resident_bytes", "hlodr_loads_total"})
     EXPECT_NE(text.find(name), std::string::npos) << name << "\n" << text;
   // promtool (Debian's prometheus package) accepts it.

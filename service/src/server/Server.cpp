@@ -137,6 +137,10 @@ hlod::Result<std::unique_ptr<Server>> Server::create(const ServerOptions& o, Log
                   [impl, one] { return one(double(impl->api->queued())); });
   m.metrics.gauge("hlodr_sessions", "Live viewing sessions", "gauge",
                   [impl, one] { return one(double(impl->sessions->count())); });
+  m.metrics.gauge("hlodr_sessions_asking",
+                  "Sessions that asked for a frame in the last second (they share one budget "
+                  "under --admission share)",
+                  "gauge", [impl, one] { return one(double(impl->sessions->asking())); });
   m.metrics.gauge("hlodr_jobs", "Path jobs by state", "gauge", [impl] {
     std::vector<std::pair<std::string, double>> out;
     for (const auto& [state, n] : impl->jobs->countByState())

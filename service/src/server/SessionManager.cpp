@@ -147,12 +147,16 @@ std::size_t SessionManager::leastBusyWorker() const {
   return best;
 }
 
-std::size_t SessionManager::sharing(const Live& self, Clock::time_point now) const {
+std::size_t SessionManager::askedSince(Clock::time_point now, const Live* besides) const {
   const Clock::rep since = (now - kAskingWindow).time_since_epoch().count();
   std::lock_guard lock(mutex_);
-  return 1 + std::size_t(std::count_if(live_.begin(), live_.end(), [&](const auto& l) {
-           return l.second.get() != &self && l.second->askedAt >= since;
-         }));
+  return std::size_t(std::count_if(live_.begin(), live_.end(), [&](const auto& l) {
+    return l.second.get() != besides && l.second->askedAt >= since;
+  }));
+}
+
+std::size_t SessionManager::asking() const {
+  return askedSince(limits_.now(), nullptr);
 }
 
 std::size_t SessionManager::count() const {
@@ -272,7 +276,8 @@ ApiResult<FrameAnswer> SessionManager::frame(const std::string& id, const nlohma
             sample.velocity = (sample.camera.position - live->camera.position) / dt;
         }
         // The admission rule (SessionLimits::shareBudget).
-        const std::size_t k = limits_.shareBudget ? sharing(*live, limits_.now()) : 1;
+        // The frame's own session counts whether or not it asked within the window.
+        const std::size_t k = limits_.shareBudget ? 1 + askedSince(limits_.now(), live.get()) : 1;
         live->session->driver().selector().setTargetMs(live->settings.budgetMs / double(k));
         auto a = draw(*live->session, *live->scene, sample,
                       still ? hlod::FrameMode::Settled : hlod::FrameMode::Realtime, image, posted);

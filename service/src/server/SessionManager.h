@@ -65,6 +65,9 @@ class SessionManager {
   // contexts as idle; returns how many sessions.
   std::size_t expireIdle();
   std::size_t count() const;
+  // Sessions that asked for a frame within kAskingWindow, by the limits' clock: the k that
+  // shares one budget under SessionLimits::shareBudget.
+  std::size_t asking() const;
   // Destroys every session on its worker (before the workers stop).
   void shutdown();
 
@@ -72,9 +75,8 @@ class SessionManager {
   struct Live;
   struct Warm;
   std::size_t leastBusyWorker() const;
-  // The sessions that share the budget with `self` now: self, and the others that asked for a
-  // frame within kAskingWindow.
-  std::size_t sharing(const Live& self, Clock::time_point now) const;
+  // Sessions other than `besides` that asked for a frame within kAskingWindow of now.
+  std::size_t askedSince(Clock::time_point now, const Live* besides) const;
   // A lease of GL memory for a session of these settings: on the worker's thread (w), where
   // warm contexts of that worker are dropped, least recently used first, to make room.
   ApiResult<GlMemory::Lease> leaseFor(const RenderSettings& settings, std::size_t w);
