@@ -12,10 +12,10 @@
 // or tests/deploy/node_modules (scripts/test.sh installs it), and fails instead when CI is set.
 import { spawn, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
-import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { freePort } from './support.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const REPO = path.resolve(HERE, '../..');
@@ -90,16 +90,6 @@ check(wanted.has('hlodr_frame_seconds_bucket') && wanted.has('hlodr_queue_length
   wanted.has('hlodr_resident_bytes'), `the dashboard shows frame time, queue, sessions, resident bytes (${[...wanted].join(', ')})`);
 
 // A live server's metrics, after a frame.
-function freePort() {
-  return new Promise((resolve, reject) => {
-    const s = net.createServer();
-    s.on('error', reject);
-    s.listen(0, '127.0.0.1', () => {
-      const { port } = s.address();
-      s.close(() => resolve(port));
-    });
-  });
-}
 let server = null;
 try {
   const data = path.join(tmp, 'data');

@@ -18,6 +18,7 @@ import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { orbit } from './support.mjs';
 
 const REPO = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const HLODR = process.env.HLODR_BINARY || path.join(REPO, 'build/hlodr');
@@ -91,20 +92,6 @@ function percentile(values, p) {
   if (!values.length) return NaN;
   const s = [...values].sort((a, b) => a - b);
   return s[Math.min(s.length - 1, Math.floor((p / 100) * s.length))];
-}
-
-// The camera `angle` radians around the default camera's target, about the scene's up.
-function orbit(camera, up, angle) {
-  const t = camera.target;
-  const v = camera.position.map((x, i) => x - t[i]);
-  const n = Math.hypot(...up);
-  const k = up.map((x) => x / n);
-  const c = Math.cos(angle);
-  const s = Math.sin(angle);
-  const dot = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
-  const cross = [k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0]];
-  const r = v.map((x, i) => x * c + cross[i] * s + k[i] * dot * (1 - c));
-  return { position: r.map((x, i) => x + t[i]), target: t, up: camera.up || up, fov: camera.fov || 50 };
 }
 
 // One orbiting client: frames one after the other (one in flight), through the page's recovery.

@@ -12,10 +12,10 @@
 // to PREFIX-ADMISSION-CLIENTS.json.
 import { spawn, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
-import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { freePort, orbit } from './support.mjs';
 
 const REPO = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const HLODR = process.env.HLODR_BINARY || path.join(REPO, 'build/hlodr');
@@ -37,17 +37,6 @@ function run(cmd, args) {
   if (r.status !== 0) throw new Error(`${cmd} ${args.join(' ')} failed (${r.status}):\n${r.stdout}\n${r.stderr}`);
 }
 
-function freePort() {
-  return new Promise((resolve, reject) => {
-    const s = net.createServer();
-    s.on('error', reject);
-    s.listen(0, '127.0.0.1', () => {
-      const { port } = s.address();
-      s.close(() => resolve(port));
-    });
-  });
-}
-
 const median = (v) => {
   if (!v.length) return NaN;
   const s = [...v].sort((a, b) => a - b);
@@ -58,20 +47,6 @@ async function post(url, body) {
   const r = await fetch(url, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
   if (r.status >= 400) throw new Error(`${url}: ${r.status} ${await r.text()}`);
   return r;
-}
-
-// The default camera turned `angle` radians about the scene's up through its target.
-function orbit(camera, up, angle) {
-  const t = camera.target;
-  const v = camera.position.map((x, i) => x - t[i]);
-  const n = Math.hypot(...up);
-  const k = up.map((x) => x / n);
-  const c = Math.cos(angle);
-  const s = Math.sin(angle);
-  const dot = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
-  const cross = [k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0]];
-  const r = v.map((x, i) => x * c + cross[i] * s + k[i] * dot * (1 - c));
-  return { position: r.map((x, i) => x + t[i]), target: t, up, fov: camera.fov || 50 };
 }
 
 class Client {

@@ -597,8 +597,8 @@ TEST_F(ServerTest, MetricsAreInThePrometheusFormatAndCountTheFrames) {
        {"hlodr_frames_total{kind=\"render\"} 1", "# TYPE hlodr_frame_seconds histogram",
         "hlodr_frame_seconds_bucket{le=\"0.033\"}", "hlodr_frame_seconds_count 1",
         "hlodr_http_request_duration_seconds_count", "hlodr_queue_length", "hlodr_sessions",
-        "hlodr_sessions_asking",
-        "hlodr_jobs{state=\"running\"}", "hlodr_resident_bytes", "hlodr_loads_total"})
+        "hlodr_sessions_asking", "hlodr_jobs{state=\"running\"}", "hlodr_resident_bytes",
+        "hlodr_loads_total"})
     EXPECT_NE(text.find(name), std::string::npos) << name << "\n" << text;
   // promtool (Debian's prometheus package) accepts it.
   if (std::system("command -v promtool >/dev/null 2>&1") != 0) {

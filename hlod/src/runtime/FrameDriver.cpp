@@ -428,8 +428,7 @@ Result<FrameRecord> FrameDriver::renderFrame(const CameraSample& sample, FrameMo
   view.occlusion = culling ? &occlusion_ : nullptr;
   // The occlusion queries' box pass costs what it cost last frame: reserved as the per-pixel
   // passes are.
-  view.spentMs =
-      rec.uploadMs + screenPassMs_ + reservedFixedMs_ + (culling ? occlusionMs_ : 0.0);
+  view.spentMs = rec.uploadMs + screenPassMs_ + reservedFixedMs_ + (culling ? occlusionMs_ : 0.0);
   view.frontDraws = frontDraws();
   const auto selectStart = loader_.clock().now();
   rec.timeline.selectStartUs = microsecondsOf(selectStart);

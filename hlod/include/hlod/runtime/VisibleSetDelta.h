@@ -29,8 +29,8 @@ struct VisibleSetDelta {
 VisibleSetDelta visibleSetDelta(std::span<const std::uint32_t> previous,
                                 std::span<const std::uint32_t> current);
 // V_i from V_{i-1} and the delta. An Error where the delta does not fit the set (a removed node
-// that is not in it, an added one that is, one both added and removed, or ids out of order): the sender and the receiver
-// disagree, and going on would draw the wrong nodes.
+// that is not in it, an added one that is, one both added and removed, or ids out of order): the
+// sender and the receiver disagree, and going on would draw the wrong nodes.
 Result<std::vector<std::uint32_t>> applyVisibleSetDelta(std::span<const std::uint32_t> previous,
                                                         const VisibleSetDelta& delta);
 
