@@ -417,3 +417,38 @@ TEST(CellNodes, PartsJoinedRoundACourtyardAreNoBox) {
   EXPECT_EQ(m.triangleCount(), 0u);
   EXPECT_EQ(others.size(), 3 * before);
 }
+
+TEST(CellNodes, ARoofThatSharesNoPositionWithItsWallsIsTakenIntoItsBuilding) {
+  const std::vector<glm::vec4> colours = {
+      {0.5f, 0.5f, 0.5f, 1.0f}, {1.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f, 1.0f}};
+  Mesh m;
+  // Ground: 100 x 100 at z = 0, under the tower too.
+  m.positions = {{0, 0, 0}, {100, 0, 0}, {100, 100, 0}, {0, 100, 0}};
+  m.normals.assign(4, glm::vec3(0, 0, 1));
+  m.texCoords.assign(4, glm::vec2(0));
+  m.indices = {0, 1, 2, 0, 2, 3};
+  // A tower's walls 10 x 20 x 30 without their roof (appendBox's first quad), as a simplified
+  // block leaves them when the cornice between walls and roof is gone.
+  addBoxPart(m, {10, 10, 0}, {20, 30, 30}, 1.0f, 2.0f);
+  m.indices.erase(m.indices.begin() + 6, m.indices.begin() + 12);
+  // Its roof, 0.5 m inside the walls, sharing no position with them, and a unit on the roof.
+  const auto base = std::uint32_t(m.positions.size());
+  for (const glm::dvec3& p : {glm::dvec3(10.5, 10.5, 30), glm::dvec3(19.5, 10.5, 30),
+                              glm::dvec3(19.5, 29.5, 30), glm::dvec3(10.5, 29.5, 30)}) {
+    m.positions.push_back(p);
+    m.normals.emplace_back(0, 0, 1);
+    m.texCoords.emplace_back(1.0f, 0.0f);
+  }
+  m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  addBoxPart(m, {14, 18, 30}, {16, 20, 32}, 1.0f, 2.0f);
+  const std::vector<BuildingBox> boxes = takeBuildings(m, colours, UpAxis::Z);
+  // One box: walls, roof and unit. Alone, the roof would be ground and the walls no box.
+  ASSERT_EQ(boxes.size(), 1u);
+  const BuildingBox& tower = boxes.front();
+  EXPECT_NEAR(tower.bottom, 0.0, 1e-9);
+  EXPECT_GT(tower.top, 30.0);
+  EXPECT_LT(tower.top, 30.2);  // the roof's height, the unit's 4 m2 of 175 at 32 m in the mean
+  EXPECT_NEAR((tower.hi.x - tower.lo.x) * (tower.hi.y - tower.lo.y), 200.0, 1e-6);
+  EXPECT_EQ(tower.roof, colours[1]);
+  EXPECT_EQ(m.triangleCount(), 2u);  // the ground stays: it lies under the tower, not on it
+}

@@ -31,17 +31,57 @@ std::vector<BuildingBox> takeBuildings(Mesh& mesh, std::span<const glm::vec4> co
     Aabb box;
     std::vector<std::uint32_t> triangles;
   };
-  std::unordered_map<std::uint32_t, Part> parts;
+  std::vector<Part> parts;  // in the order of their first triangles
+  std::unordered_map<std::uint32_t, std::uint32_t> partOf;
   for (std::uint32_t t = 0; t * 3 < mesh.indices.size(); ++t) {
-    Part& part = parts[find(pid[mesh.indices[3 * t]])];
+    const auto [at, added] =
+        partOf.try_emplace(find(pid[mesh.indices[3 * t]]), std::uint32_t(parts.size()));
+    if (added) parts.emplace_back();
+    Part& part = parts[at->second];
     part.triangles.push_back(t);
     for (int k = 0; k < 3; ++k) part.box.extend(mesh.positions[mesh.indices[3 * t + k]]);
   }
+  const auto flat = [&](const Aabb& box) {
+    const glm::dvec3 size = box.size();
+    return size[u] * kGroundAspect < std::max(size[e0], size[e1]);
+  };
+  // A simplified building's roof (and what stands on it) need not share a position with its
+  // walls: a cornice or parapet between them is gone. A part lying over a building part's
+  // footprint (at least kOnFootprint of its own), its bottom above that part's by kRoofLift of
+  // its height and not above its top, is taken into it; otherwise the roof would count as
+  // ground and the walls as no box.
+  const auto footprintArea = [&](const Aabb& a) { return (a.max[e0] - a.min[e0]) * (a.max[e1] - a.min[e1]); };
+  std::vector<std::uint32_t> into(parts.size());
+  for (std::uint32_t q = 0; q < parts.size(); ++q) {
+    into[q] = q;
+    const Aabb& a = parts[q].box;
+    double best = kOnFootprint * std::max(footprintArea(a), 0.0);
+    for (std::uint32_t w = 0; w < parts.size(); ++w) {
+      const Aabb& b = parts[w].box;
+      const double height = b.max[u] - b.min[u];
+      if (w == q || flat(b) || !(height > a.max[u] - a.min[u]) ||
+          a.min[u] < b.min[u] + kRoofLift * height || a.min[u] > b.max[u])
+        continue;
+      const double dx = std::min(a.max[e0], b.max[e0]) - std::max(a.min[e0], b.min[e0]);
+      const double dy = std::min(a.max[e1], b.max[e1]) - std::max(a.min[e1], b.min[e1]);
+      if (dx > 0.0 && dy > 0.0 && dx * dy >= best) best = dx * dy, into[q] = w;
+    }
+  }
+  // Chains (a unit on a roof on its walls) end at a part taken into none.
+  for (std::uint32_t q = 0; q < parts.size(); ++q) {
+    std::uint32_t w = into[q];
+    for (int hops = 0; into[w] != w && hops < 64; ++hops) w = into[w];
+    if (w == q) continue;
+    Part& target = parts[w];
+    target.triangles.insert(target.triangles.end(), parts[q].triangles.begin(),
+                            parts[q].triangles.end());
+    target.box.extend(parts[q].box);
+    parts[q].triangles.clear();
+  }
   std::vector<BuildingBox> out;
   std::vector<std::uint8_t> taken(mesh.triangleCount(), 0);
-  for (auto& [root, part] : parts) {
-    const glm::dvec3 size = part.box.size();
-    if (size[u] * kGroundAspect < std::max(size[e0], size[e1])) continue;  // ground
+  for (Part& part : parts) {
+    if (part.triangles.empty() || flat(part.box)) continue;  // taken into another, or ground
     // The footprint's direction: the walls' edges across `up` weighted by length (a wall's
     // diagonals too lie along it, a roof's would not), their angle taken four times over, so
     // that a rectangle's two edge directions agree.

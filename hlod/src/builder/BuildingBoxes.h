@@ -30,6 +30,10 @@ constexpr std::size_t kBoxTriangles = 10;  // its roof and four walls
 // A part whose roofs (triangles facing up) cover less of its box's footprint is no box (buildings
 // joined around a courtyard): it stays in the mesh.
 constexpr double kBoxFill = 0.5;
+// A part over a building's footprint (this much of its own), its bottom this much of the
+// building's height above the building's, belongs to it: its roof, or what stands on the roof.
+constexpr double kOnFootprint = 0.5;
+constexpr double kRoofLift = 0.1;
 
 // Takes the buildings out of a mesh of mergeCellChildren's (texture coordinates: colour
 // indices): each connected part (by position) that is not ground and fills its box (kBoxFill)
