@@ -50,21 +50,35 @@ std::vector<BuildingBox> takeBuildings(Mesh& mesh, std::span<const glm::vec4> co
   // footprint (at least kOnFootprint of its own), its bottom above that part's by kRoofLift of
   // its height and not above its top, is taken into it; otherwise the roof would count as
   // ground and the walls as no box.
-  const auto footprintArea = [&](const Aabb& a) { return (a.max[e0] - a.min[e0]) * (a.max[e1] - a.min[e1]); };
+  const auto footprintArea = [&](const Aabb& a) {
+    return (a.max[e0] - a.min[e0]) * (a.max[e1] - a.min[e1]);
+  };
+  // The building parts by the start of their boxes along e0: a part's candidates end where
+  // they start past its own box.
+  std::vector<std::uint32_t> walls;
+  for (std::uint32_t w = 0; w < parts.size(); ++w)
+    if (!flat(parts[w].box)) walls.push_back(w);
+  std::sort(walls.begin(), walls.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return parts[a].box.min[e0] < parts[b].box.min[e0];
+  });
   std::vector<std::uint32_t> into(parts.size());
   for (std::uint32_t q = 0; q < parts.size(); ++q) {
     into[q] = q;
     const Aabb& a = parts[q].box;
     double best = kOnFootprint * std::max(footprintArea(a), 0.0);
-    for (std::uint32_t w = 0; w < parts.size(); ++w) {
+    for (std::uint32_t w : walls) {
       const Aabb& b = parts[w].box;
+      if (b.min[e0] >= a.max[e0]) break;
       const double height = b.max[u] - b.min[u];
-      if (w == q || flat(b) || !(height > a.max[u] - a.min[u]) ||
-          a.min[u] < b.min[u] + kRoofLift * height || a.min[u] > b.max[u])
+      if (w == q || !(height > a.max[u] - a.min[u]) || a.min[u] < b.min[u] + kRoofLift * height ||
+          a.min[u] > b.max[u])
         continue;
       const double dx = std::min(a.max[e0], b.max[e0]) - std::max(a.min[e0], b.min[e0]);
       const double dy = std::min(a.max[e1], b.max[e1]) - std::max(a.min[e1], b.min[e1]);
-      if (dx > 0.0 && dy > 0.0 && dx * dy >= best) best = dx * dy, into[q] = w;
+      // Of equal overlaps, the part made last (the walls, not a ledge on them, in a block's order).
+      if (!(dx > 0.0 && dy > 0.0)) continue;
+      if (dx * dy > best || (dx * dy == best && (into[q] == q || w > into[q])))
+        best = dx * dy, into[q] = w;
     }
   }
   // Chains (a unit on a roof on its walls) end at a part taken into none.
