@@ -27,6 +27,10 @@ constexpr int kSettleFrames = 16;
 // and the first frame after the metrics of the last camera was not timed like a frame after
 // frames (Lakhia's, after its settling frames).
 constexpr int kTimedFrames = 3;
+// The calibration pass before the first budgeted run: frames at most at a studied camera, and
+// the change of v_time in a frame below which it counts as at rest there.
+constexpr int kCalibrationFrames = 48;
+constexpr double kSteadyVTime = 0.02;
 
 // The studied frames: `count` path frames spread evenly from the first to the last.
 std::vector<std::uint64_t> studiedFrames(std::uint64_t total, std::size_t count) {
@@ -145,9 +149,44 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   stripAt.erase(std::unique(stripAt.begin(), stripAt.end()), stripAt.end());
   std::map<std::pair<std::size_t, double>, Measured> stripCells;  // (studied index, budget)
 
-  // Each run starts from the timing the run before left, as the server's sessions do (only the
-  // first measures one: see FrameDriver::start).
+  // Each run starts from the timing the run before left, as the server's sessions do. The first
+  // budgeted run would start from FrameDriver::start's probe, which can be off several times
+  // either way, and a settled run's few frames per camera do not carry v_time to rest: its first
+  // cameras then get fronts far under or over their budget, and two runs compared differ by
+  // where each probe landed. So a calibration pass comes first: the first budgeted
+  // configuration, settled at every studied camera, unmeasured; its timing starts the runs.
   hlod::FrontTiming known;
+  for (const StudyConfig& c : configs) {
+    if (c.selector == "sse") continue;
+    SessionOptions so = base;
+    so.selectorParams = o.selectorParams;
+    so.selector = c.selector;
+    so.budgetMs = c.budgetMs;
+    so.occlusion = o.occlusion;
+    auto s = Session::create(source, so, gl);
+    if (!s) return hlod::makeError("calibration: " + s.message());
+    if (!(*s)->selector().budgeted()) continue;
+    // At each studied camera until the front toggles nothing and v_time moved less than
+    // kSteadyVTime in the last frame: a front held back by a v_time too high toggles nothing
+    // while v_time comes down a few percent a frame.
+    for (std::uint64_t f : frames) {
+      if (cancelled()) return hlod::makeError("cancelled");
+      double vTime = (*s)->driver().timing().vTime;
+      for (int k = 0; k < kCalibrationFrames; ++k) {
+        auto still =
+            (*s)->renderFrame(path.sampleFrame(f, o.fps, aspect), hlod::FrameMode::Settled);
+        if (!still)
+          return hlod::makeError("calibration, frame " + std::to_string(f) + ": " +
+                                 still.message());
+        const double next = (*s)->driver().timing().vTime;
+        const bool steady = std::abs(next - vTime) <= kSteadyVTime * vTime;
+        vTime = next;
+        if (steady && still->upToggles + still->downToggles == 0) break;
+      }
+    }
+    known = (*s)->driver().timing();
+    break;
+  }
   // --trace: every frame each run drew (settling and warm-up frames too), a process per run.
   std::vector<std::vector<hlod::FrameRecord>> traced;
   for (const StudyConfig& c : configs) {
