@@ -155,15 +155,19 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   // cameras then get fronts far under or over their budget, and two runs compared differ by
   // where each probe landed. So a calibration pass comes first: the first budgeted
   // configuration, settled at every studied camera, unmeasured; its timing starts the runs.
-  hlod::FrontTiming known;
-  for (const StudyConfig& c : configs) {
-    if (c.selector == "sse") continue;
+  const auto sessionFor = [&](const StudyConfig& c) {
     SessionOptions so = base;
     so.selectorParams = o.selectorParams;
     so.selector = c.selector;
     so.budgetMs = c.budgetMs;
+    so.selectorParams.ssePixels = c.ssePx > 0.0 ? c.ssePx : so.selectorParams.ssePixels;
     so.occlusion = o.occlusion;
-    auto s = Session::create(source, so, gl);
+    return so;
+  };
+  hlod::FrontTiming known;
+  for (const StudyConfig& c : configs) {
+    if (c.selector == "sse") continue;
+    auto s = Session::create(source, sessionFor(c), gl);
     if (!s) return hlod::makeError("calibration: " + s.message());
     if (!(*s)->selector().budgeted()) continue;
     // At each studied camera until the front toggles nothing and v_time moved less than
@@ -191,14 +195,9 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   std::vector<std::vector<hlod::FrameRecord>> traced;
   for (const StudyConfig& c : configs) {
     if (!o.trace.empty()) traced.emplace_back();
-    SessionOptions so = base;
-    so.selectorParams = o.selectorParams;
-    so.selector = c.selector;
-    so.budgetMs = c.budgetMs;
-    so.selectorParams.ssePixels = c.ssePx > 0.0 ? c.ssePx : so.selectorParams.ssePixels;
+    SessionOptions so = sessionFor(c);
     so.knownVTime = known.vTime;
     so.knownFixedMs = known.fixedMs;
-    so.occlusion = o.occlusion;
     auto s = Session::create(source, so, gl);
     if (!s) return hlod::makeError(c.label() + ": " + s.message());
     Run run;
