@@ -149,12 +149,12 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
   stripAt.erase(std::unique(stripAt.begin(), stripAt.end()), stripAt.end());
   std::map<std::pair<std::size_t, double>, Measured> stripCells;  // (studied index, budget)
 
-  // Each run starts from the timing the run before left, as the server's sessions do. The first
-  // budgeted run would start from FrameDriver::start's probe, which can be off several times
-  // either way, and a settled run's few frames per camera do not carry v_time to rest: its first
-  // cameras then get fronts far under or over their budget, and two runs compared differ by
-  // where each probe landed. So a calibration pass comes first: the first budgeted
-  // configuration, settled at every studied camera, unmeasured; its timing starts the runs.
+  // A budgeted run would start from the timing the run before left, as the server's sessions
+  // do, and the first from FrameDriver::start's probe, which can be several times off either
+  // way; a settled run's few frames per camera do not carry v_time to rest, so its first cameras
+  // got fronts far under or over their budget, and two runs compared differed by where each
+  // started. So each budgeted run starts from a calibration pass of its own selector and budget:
+  // settled at every studied camera, unmeasured, from the timing the last run left.
   const auto sessionFor = [&](const StudyConfig& c) {
     SessionOptions so = base;
     so.selectorParams = o.selectorParams;
@@ -165,11 +165,13 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
     return so;
   };
   hlod::FrontTiming known;
-  for (const StudyConfig& c : configs) {
-    if (c.selector == "sse") continue;
-    auto s = Session::create(source, sessionFor(c), gl);
-    if (!s) return hlod::makeError("calibration: " + s.message());
-    if (!(*s)->selector().budgeted()) continue;
+  const auto calibrate = [&](const StudyConfig& c) -> hlod::Status {
+    SessionOptions so = sessionFor(c);
+    so.knownVTime = known.vTime;
+    so.knownFixedMs = known.fixedMs;
+    auto s = Session::create(source, so, gl);
+    if (!s) return hlod::makeError(c.label() + ", calibration: " + s.message());
+    if (!(*s)->selector().budgeted()) return hlod::Ok{};
     // At each studied camera until the front toggles nothing and v_time moved less than
     // kSteadyVTime in the last frame: a front held back by a v_time too high toggles nothing
     // while v_time comes down a few percent a frame.
@@ -180,7 +182,7 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
         auto still =
             (*s)->renderFrame(path.sampleFrame(f, o.fps, aspect), hlod::FrameMode::Settled);
         if (!still)
-          return hlod::makeError("calibration, frame " + std::to_string(f) + ": " +
+          return hlod::makeError(c.label() + ", calibration, frame " + std::to_string(f) + ": " +
                                  still.message());
         const double next = (*s)->driver().timing().vTime;
         const bool steady = std::abs(next - vTime) <= kSteadyVTime * vTime;
@@ -189,12 +191,14 @@ hlod::Result<StudyReport> runStudy(std::shared_ptr<const hlod::NodeSource> sourc
       }
     }
     known = (*s)->driver().timing();
-    break;
-  }
+    return hlod::Ok{};
+  };
   // --trace: every frame each run drew (settling and warm-up frames too), a process per run.
   std::vector<std::vector<hlod::FrameRecord>> traced;
   for (const StudyConfig& c : configs) {
     if (!o.trace.empty()) traced.emplace_back();
+    if (c.selector != "sse")
+      if (auto calibrated = calibrate(c); !calibrated) return calibrated.error();
     SessionOptions so = sessionFor(c);
     so.knownVTime = known.vTime;
     so.knownFixedMs = known.fixedMs;
