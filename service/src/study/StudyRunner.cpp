@@ -27,7 +27,7 @@ constexpr int kSettleFrames = 16;
 // and the first frame after the metrics of the last camera was not timed like a frame after
 // frames (Lakhia's, after its settling frames).
 constexpr int kTimedFrames = 3;
-// The calibration pass before the first budgeted run: frames at most at a studied camera, and
+// The calibration pass before each budgeted run: frames at most at a studied camera, and
 // the change of v_time in a frame below which it counts as at rest there.
 constexpr int kCalibrationFrames = 48;
 constexpr double kSteadyVTime = 0.02;
