@@ -38,7 +38,9 @@ const SIZE = { width: 160, height: 90 };
 const WARM_MS = 1500; // orbits before the figures are taken (first loads)
 const MEASURE_MS = 4000; // figures of the healthy set
 const AFTER_KILL_MS = 4000; // orbits after the kill
-const RECOVERY_BOUND_MS = 2000;
+// A sanitized server (ASan + UBSan: 4-15x slower) opens a new session and draws its first frame
+// in up to about 2.6 s on a loaded 2-core machine: the bound is for the real build.
+const RECOVERY_BOUND_MS = process.env.HLODR_SANITIZED === '1' ? 5000 : 2000;
 
 function skip(why) {
   console.log(`lb.test: skipped: ${why}`);
