@@ -24,5 +24,10 @@ export function orbit(camera, up, angle) {
   const dot = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
   const cross = [k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0]];
   const r = v.map((x, i) => x * c + cross[i] * s + k[i] * dot * (1 - c));
-  return { position: r.map((x, i) => x + t[i]), target: t, up: camera.up || up, fov: camera.fov || 50 };
+  return {
+    position: r.map((x, i) => x + t[i]),
+    target: t,
+    up: camera.up || up,
+    fov: camera.fov || 50,
+  };
 }

@@ -368,17 +368,22 @@ void addBoxPart(Mesh& m, glm::dvec3 lo, glm::dvec3 hi, float roof, float wall) {
   for (std::uint32_t i : part.indices) m.indices.push_back(base + i);
 }
 
+// Ground: 100 x 100 at z = 0, colour 0.
+Mesh groundSquare() {
+  Mesh m;
+  m.positions = {{0, 0, 0}, {100, 0, 0}, {100, 100, 0}, {0, 100, 0}};
+  m.normals.assign(4, glm::vec3(0, 0, 1));
+  m.texCoords.assign(4, glm::vec2(0));
+  m.indices = {0, 1, 2, 0, 2, 3};
+  return m;
+}
+
 }  // namespace
 
 TEST(CellNodes, BuildingsBecomeBoxesAndTheGroundAndACourtyardRingStay) {
   const std::vector<glm::vec4> colours = {
       {0.5f, 0.5f, 0.5f, 1.0f}, {1.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f, 1.0f}};
-  Mesh m;
-  // Ground: 100 x 100 at z = 0, colour 0.
-  m.positions = {{0, 0, 0}, {100, 0, 0}, {100, 100, 0}, {0, 100, 0}};
-  m.normals.assign(4, glm::vec3(0, 0, 1));
-  m.texCoords.assign(4, glm::vec2(0));
-  m.indices = {0, 1, 2, 0, 2, 3};
+  Mesh m = groundSquare();
   // A tower 10 x 20 x 30 (red roof, blue walls).
   addBoxPart(m, {10, 10, 0}, {20, 30, 30}, 1.0f, 2.0f);
   // A low wide shed 40 x 40 x 5, and a kerb 60 m long, 0.3 m wide, 0.2 m high: ground.
@@ -421,12 +426,7 @@ TEST(CellNodes, PartsJoinedRoundACourtyardAreNoBox) {
 TEST(CellNodes, ARoofThatSharesNoPositionWithItsWallsIsTakenIntoItsBuilding) {
   const std::vector<glm::vec4> colours = {
       {0.5f, 0.5f, 0.5f, 1.0f}, {1.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f, 1.0f}};
-  Mesh m;
-  // Ground: 100 x 100 at z = 0, under the tower too.
-  m.positions = {{0, 0, 0}, {100, 0, 0}, {100, 100, 0}, {0, 100, 0}};
-  m.normals.assign(4, glm::vec3(0, 0, 1));
-  m.texCoords.assign(4, glm::vec2(0));
-  m.indices = {0, 1, 2, 0, 2, 3};
+  Mesh m = groundSquare();  // under the tower too
   // A tower's walls 10 x 20 x 30 without their roof (appendBox's first quad), as a simplified
   // block leaves them when the cornice between walls and roof is gone.
   addBoxPart(m, {10, 10, 0}, {20, 30, 30}, 1.0f, 2.0f);
